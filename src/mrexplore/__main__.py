@@ -1,0 +1,7 @@
+"""``python -m mrexplore`` runs the command-line interface."""
+
+import sys
+
+from mrexplore.cli import main
+
+sys.exit(main())

@@ -1,0 +1,227 @@
+"""Command-line interface: parses arguments, calls the library, prints.
+
+Exit status: 0 when the command did its job (whatever a run's status), 2 for bad
+input (one line on stderr, no traceback), 1 for an internal error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+from mrexplore import __version__
+from mrexplore.errors import MrexploreInputError, ScenarioError
+
+EXIT_BAD_INPUT = 2
+EXIT_INTERNAL = 1
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line and exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, f"mrexplore: error: {message} (see {self.prog} --help)\n")
+
+
+def _positive_int(option: str) -> Any:
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option} {text!r}: not an integer") from None
+        if value <= 0:
+            raise argparse.ArgumentTypeError(f"{option} {text}: must be positive")
+        return value
+
+    return convert
+
+
+def _float(option: str) -> Any:
+    def convert(text: str) -> float:
+        try:
+            return float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option} {text!r}: not a number") from None
+
+    return convert
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="mrexplore", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"mrexplore {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logs")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
+
+    run = sub.add_parser("run", help="run one exploration scenario")
+    run.add_argument("--map", required=True, help="generator id (see `mrexplore maps`) or map file")
+    run.add_argument("--size", help="generator size WIDTHxHEIGHT in cells")
+    run.add_argument("--map-seed", type=int, help="generator seed (default: --seed)")
+    run.add_argument(
+        "--cell-size", type=_float("--cell-size"), help="resample a file map to metres per cell"
+    )
+    run.add_argument("--robots", type=_positive_int("--robots"), default=4)
+    run.add_argument("--strategy", default="nearest-frontier", help="see `mrexplore strategies`")
+    run.add_argument(
+        "--set",
+        dest="params",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="strategy parameter (repeatable)",
+    )
+    run.add_argument("--sensor-range", default="8", help="cells, or metres with 'm' (2.5m)")
+    run.add_argument("--speed", type=_float("--speed"), default=1.0, help="cells per tick")
+    run.add_argument("--seed", type=int, default=0)
+    run.add_argument("--max-ticks", type=_positive_int("--max-ticks"), default=50_000)
+    run.add_argument("--start", default="together", help="together | separate | 'R,C;R,C;...'")
+    run.add_argument("--sensing", default="moving", choices=["moving", "arrival"])
+    run.add_argument("--sharing", default="full", help="map sharing: full | none")
+    run.add_argument("--coverage-threshold", type=_float("--coverage-threshold"), default=0.99)
+    run.add_argument("--stall-ticks", type=_positive_int("--stall-ticks"))
+    run.add_argument("--idle-ticks", type=_positive_int("--idle-ticks"), default=10)
+    run.add_argument("--patience", type=_positive_int("--patience"), default=3)
+    run.add_argument("--out", help="output folder (result.json, trace.npz, final.png)")
+    run.add_argument("--gif", action="store_true", help="also write run.gif")
+    run.add_argument("--json", action="store_true", help="print result.json instead of a table")
+
+    sub.add_parser("strategies", help="list the registered strategies")
+    sub.add_parser("maps", help="list map generators and the bundled real maps")
+    return parser
+
+
+def _scenario_from_args(args: argparse.Namespace) -> Any:
+    from mrexplore.sim.scenario import Scenario, parse_cells, parse_size
+
+    params: dict[str, str] = {}
+    for item in args.params:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise ScenarioError(f"--set {item!r}: expected KEY=VALUE")
+        params[key.strip()] = value.strip()
+    start: Any = args.start
+    if start not in ("together", "separate"):
+        start = parse_cells(start)
+    return Scenario(
+        map=args.map,
+        size=parse_size(args.size) if args.size else None,
+        map_seed=args.map_seed,
+        cell_size=args.cell_size,
+        robots=args.robots,
+        strategy=args.strategy,
+        params=params,
+        sensor_range=args.sensor_range,
+        speed=args.speed,
+        seed=args.seed,
+        max_ticks=args.max_ticks,
+        start=start,
+        sensing=args.sensing,
+        sharing=args.sharing,
+        coverage_threshold=args.coverage_threshold,
+        stall_ticks=args.stall_ticks,
+        idle_ticks=args.idle_ticks,
+        patience=args.patience,
+    )
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return "-" if value is None else str(value)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    import json
+
+    from mrexplore.comm.sharing import make_sharing
+    from mrexplore.sim.engine import Simulation
+
+    scenario = _scenario_from_args(args)
+    make_sharing(scenario.sharing)  # unknown id -> input error before any work
+    simulation = Simulation(scenario)
+    record = simulation.run()
+    written = record.save(args.out, gif=args.gif) if args.out else {}
+    result = record.result()
+    if args.json:
+        print(json.dumps(result, indent=2))
+        return 0
+    rows = [
+        ("map", f"{result['map_name']} {result['map_shape'][1]}x{result['map_shape'][0]}"),
+        ("strategy", result["strategy"]),
+        ("robots", result["n_robots"]),
+        ("status", result["status"]),
+        ("ticks", result["ticks"]),
+        ("explored", f"{100 * result['explored_fraction']:.1f}% of {result['explorable_cells']}"),
+        ("T90 / T99 / T100", " / ".join(_fmt(result[k]) for k in ("T90", "T99", "T100"))),
+        ("total distance", f"{result['total_distance']:.1f} cells"),
+        ("overlap", f"{result['overlap']:.2f} robots per cell"),
+        ("bytes sent", result["bytes_total"]),
+        ("wall time", f"{result['wall_time_s']:.2f} s"),
+    ]
+    rows += [(name, str(path)) for name, path in written.items()]
+    width = max(len(name) for name, _ in rows)
+    for name, value in rows:
+        print(f"{name:<{width}}  {value}")
+    return 0
+
+
+def cmd_strategies(args: argparse.Namespace) -> int:
+    from mrexplore.strategies import available_strategies
+
+    registry = available_strategies()
+    width = max(len(name) for name in registry)
+    for name, cls in registry.items():
+        print(f"{name:<{width}}  {cls.summary}")
+    return 0
+
+
+def cmd_maps(args: argparse.Namespace) -> int:
+    from mrexplore.grid import list_generators
+    from mrexplore.grid.bundled import shared_maps
+
+    generators = list_generators()
+    print("generators (--map NAME [--size WxH] [--map-seed N]):")
+    width = max(len(g.name) for g in generators)
+    for info in generators:
+        w, h = info.default_size
+        print(f"  {info.name:<{width}}  {info.description} (default {w}x{h})")
+    maps = shared_maps()
+    if maps:
+        print("real maps (--map PATH):")
+        for path in maps:
+            print(f"  {path}")
+    return 0
+
+
+COMMANDS = {"run": cmd_run, "strategies": cmd_strategies, "maps": cmd_maps}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=logging.DEBUG if args.debug else logging.WARNING,
+        format="%(levelname)s %(name)s: %(message)s",
+    )
+    try:
+        return COMMANDS[args.command](args)
+    except MrexploreInputError as error:
+        print(f"mrexplore: error: {error}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("mrexplore: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:
+        if args.debug:
+            raise
+        print(
+            f"mrexplore: internal error: {type(error).__name__}: {error} (rerun with --debug)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())

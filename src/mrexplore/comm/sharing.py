@@ -1,0 +1,127 @@
+"""Map-sharing mechanisms: how robots keep their belief maps in sync.
+
+A mechanism turns a robot's new observations into messages and merges received
+messages into a belief. It never sees ground truth.
+
+* ``full``: every new observation is broadcast to the sub-network as one
+  ``map_update`` message per robot per tick (5 bytes a cell plus the header);
+  a receiver writes the received cells it does not know yet.
+* ``none``: nothing is shared (for ablations).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.bytes import BROADCAST, cell_updates_size
+from mrexplore.comm.messages import MAP_UPDATE, Message
+from mrexplore.errors import UnknownIdError
+from mrexplore.grid.occupancy import UNKNOWN, BeliefGrid
+
+
+@dataclass(frozen=True, slots=True)
+class CellUpdates:
+    """Payload of a ``map_update``: parallel arrays of rows, cols and states."""
+
+    rows: npt.NDArray[np.int64]
+    cols: npt.NDArray[np.int64]
+    values: npt.NDArray[np.int8]
+
+
+class MapSharing(ABC):
+    """Base class of map-sharing mechanisms."""
+
+    id: str = ""
+    message_types: frozenset[str] = frozenset()
+
+    @abstractmethod
+    def on_observe(
+        self,
+        robot: int,
+        tick: int,
+        rows: npt.NDArray[np.int64],
+        cols: npt.NDArray[np.int64],
+        values: npt.NDArray[np.int8],
+    ) -> list[Message]:
+        """Messages to send after ``robot`` observed new cells at ``tick``."""
+
+    @abstractmethod
+    def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
+        """Merge ``message`` into ``belief``; return how many cells became known."""
+
+
+def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
+    """Write ``updates`` into the cells of ``belief`` that are still unknown.
+
+    Returns the number of cells that changed.
+    """
+    current = belief[updates.rows, updates.cols]
+    unknown = current == UNKNOWN
+    n_new = int(np.count_nonzero(unknown))
+    if n_new:
+        belief[updates.rows[unknown], updates.cols[unknown]] = updates.values[unknown]
+    return n_new
+
+
+class FullSharing(MapSharing):
+    """Broadcast every new observation to the sub-network."""
+
+    id = "full"
+    message_types = frozenset({MAP_UPDATE})
+
+    def on_observe(
+        self,
+        robot: int,
+        tick: int,
+        rows: npt.NDArray[np.int64],
+        cols: npt.NDArray[np.int64],
+        values: npt.NDArray[np.int8],
+    ) -> list[Message]:
+        if rows.size == 0:
+            return []
+        payload = CellUpdates(rows, cols, values)
+        return [
+            Message(MAP_UPDATE, robot, BROADCAST, cell_updates_size(int(rows.size)), payload, tick)
+        ]
+
+    def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
+        payload = message.payload
+        assert isinstance(payload, CellUpdates)
+        return merge_unknown(belief, payload)
+
+
+class NoSharing(MapSharing):
+    """Robots keep what they sense to themselves."""
+
+    id = "none"
+
+    def on_observe(
+        self,
+        robot: int,
+        tick: int,
+        rows: npt.NDArray[np.int64],
+        cols: npt.NDArray[np.int64],
+        values: npt.NDArray[np.int8],
+    ) -> list[Message]:
+        return []
+
+    def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
+        return 0
+
+
+SHARING: dict[str, Callable[..., MapSharing]] = {"full": FullSharing, "none": NoSharing}
+
+
+def make_sharing(name: str, **params: Any) -> MapSharing:
+    """Build a map-sharing mechanism by registry id."""
+    try:
+        factory = SHARING[name]
+    except KeyError:
+        raise UnknownIdError("sharing mechanism", name, list(SHARING)) from None
+    return factory(**params)

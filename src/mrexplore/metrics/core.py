@@ -1,0 +1,87 @@
+"""Metrics computed from a run's trace arrays and ground truth (DESIGN §7).
+
+Everything here is a pure function of the arrays stored in ``trace.npz``, so
+anyone can recompute a run's metrics from its trace alone.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+
+def coverage_curve(
+    first_known: npt.NDArray[np.int32], explorable: npt.NDArray[np.bool_], n_ticks: int
+) -> npt.NDArray[np.float64]:
+    """Share of explorable cells known to the team at each tick ``0 .. n_ticks - 1``."""
+    total = int(np.count_nonzero(explorable))
+    if total == 0:
+        return np.ones(n_ticks, dtype=np.float64)
+    ticks = first_known[explorable]
+    ticks = ticks[ticks >= 0]
+    counts = np.bincount(ticks, minlength=n_ticks)[:n_ticks]
+    return np.cumsum(counts) / total
+
+
+def time_to_fraction(curve: npt.NDArray[np.float64], fraction: float) -> int | None:
+    """First tick at which the coverage curve reaches ``fraction`` (``None`` if never)."""
+    hits = np.nonzero(curve >= fraction - 1e-12)[0]
+    return int(hits[0]) if hits.size else None
+
+
+def group_diameter(positions: npt.NDArray[np.int32]) -> npt.NDArray[np.float64]:
+    """Largest Euclidean distance between two robots at each tick (Sheng Fig. 11)."""
+    if positions.shape[1] < 2:
+        return np.zeros(positions.shape[0], dtype=np.float64)
+    diff = positions[:, :, None, :].astype(np.float64) - positions[:, None, :, :]
+    return np.sqrt((diff**2).sum(axis=-1)).max(axis=(1, 2))
+
+
+def summarize(trace: dict[str, Any]) -> dict[str, Any]:
+    """The metrics of ``result.json`` from the trace arrays.
+
+    Needs ``positions``, ``first_known``, ``explorable``, ``distance``,
+    ``sense_count`` and ``alive``.
+    """
+    positions = trace["positions"]
+    n_ticks = positions.shape[0]
+    explorable = trace["explorable"]
+    curve = coverage_curve(trace["first_known"], explorable, n_ticks)
+    distance = trace["distance"][-1]
+    sense_count = trace["sense_count"]
+    sensed_explorable = sense_count[explorable & (sense_count > 0)]
+    sensed_by_robot = trace.get("sensed_by_robot")
+    alive_end = trace["alive"][-1]
+    diameter = group_diameter(positions)
+    metrics: dict[str, Any] = {
+        "explorable_cells": int(np.count_nonzero(explorable)),
+        "explored_fraction": float(curve[-1]),
+        "T90": time_to_fraction(curve, 0.90),
+        "T99": time_to_fraction(curve, 0.99),
+        "T100": time_to_fraction(curve, 1.0),
+        "total_distance": float(distance.sum()),
+        "distance_per_robot": [float(d) for d in distance],
+        "overlap": float(sensed_explorable.mean()) if sensed_explorable.size else 0.0,
+        "robots_failed": int(np.count_nonzero(~alive_end)),
+        "group_diameter_mean": float(diameter.mean()),
+    }
+    if sensed_by_robot is not None:
+        cells = np.asarray(sensed_by_robot, dtype=np.float64)
+        mean = cells.mean()
+        metrics["sensed_cells_per_robot"] = [int(c) for c in cells]
+        metrics["coverage_spread"] = float(cells.std() / mean) if mean > 0 else 0.0
+    return metrics
+
+
+def json_safe(value: Any) -> Any:
+    """Replace non-finite floats by strings so the result is strict JSON."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "inf" if value > 0 else ("-inf" if value < 0 else "nan")
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_safe(v) for v in value]
+    return value

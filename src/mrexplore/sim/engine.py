@@ -1,0 +1,386 @@
+"""The tick loop.
+
+Each tick ``t >= 1`` runs these phases, robots always in id order:
+
+1. **deliver**: the communication model hands over the messages due at ``t``;
+   map messages are merged into beliefs by the sharing mechanism, the rest go to
+   the strategy's inbox;
+2. **decide**: every live robot's strategy sees its :class:`RobotView` and returns
+   a :class:`Decision` (a goal with a path, idle, or keep going) and messages;
+3. **move**: each robot advances up to its budget of ``speed`` cells of path
+   (a diagonal step costs sqrt 2; an unused budget carries over up to
+   ``speed + sqrt 2``); a robot never enters a cell another robot holds: it waits,
+   after ``patience`` ticks detours around the robots it can see, else gives up
+   its goal (the strategy is told it was ``blocked``);
+4. **sense**: each live robot observes its line-of-sight disk (every tick, or
+   with ``sensing="arrival"`` only when it is not travelling); new cells go into
+   its belief and, through the sharing mechanism, into messages sent at ``t``;
+5. **record** positions, knowledge and bytes, and check the end conditions.
+
+Tick 0 is only phases 4-5 at the start cells. Only this module and
+:mod:`mrexplore.metrics` see ground truth.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm import CommModel, MapSharing, Message, make_comm_model, make_sharing
+from mrexplore.errors import StrategyError
+from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BeliefGrid, new_belief
+from mrexplore.planning import distance_field, extract_path
+from mrexplore.seeding import make_streams
+from mrexplore.sensing import visible_cells
+from mrexplore.sim.record import RunRecord
+from mrexplore.sim.scenario import Cell, Scenario
+from mrexplore.sim.world import World, build_world
+from mrexplore.strategies.base import Decision, RobotView, Strategy
+from mrexplore.strategies.registry import get_strategy, make_strategy
+
+logger = logging.getLogger(__name__)
+
+SQRT2 = math.sqrt(2.0)
+
+
+@dataclass
+class Robot:
+    """Simulator-side state of one robot (the strategy never sees this object)."""
+
+    id: int
+    position: Cell
+    belief: BeliefGrid
+    sensed: npt.NDArray[np.bool_]
+    alive: bool = True
+    path: npt.NDArray[np.int32] | None = None
+    path_index: int = 0
+    goal: Cell | None = None
+    budget: float = 0.0
+    distance: float = 0.0
+    arrived: bool = False
+    blocked: bool = False
+    blocked_ticks: int = 0
+    new_cells: int = 0
+    inbox: list[Message] = field(default_factory=list)
+
+    @property
+    def travelling(self) -> bool:
+        return self.path is not None
+
+    @property
+    def path_remaining(self) -> int:
+        return 0 if self.path is None else len(self.path) - 1 - self.path_index
+
+
+class Simulation:
+    """One run of one scenario; call :meth:`run` once."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        scenario.validate()
+        get_strategy(scenario.strategy)  # fail early on an unknown id
+        self.scenario = scenario
+        self.streams = make_streams(scenario.seed, scenario.robots)
+        self.world: World = build_world(scenario, self.streams.starts)
+        self.truth = self.world.grid.occupied
+        self.truth_state = np.where(self.truth, OCCUPIED, FREE).astype(np.int8)
+        shape = self.world.grid.shape
+        n = scenario.robots
+        self.robots = [
+            Robot(i, start, new_belief(shape), np.zeros(shape, dtype=bool))
+            for i, start in enumerate(self.world.starts)
+        ]
+        self.strategies: list[Strategy] = [
+            make_strategy(scenario.strategy, i, n, dict(scenario.params)) for i in range(n)
+        ]
+        self.comm: CommModel = make_comm_model(scenario.comm, n)
+        self.sharing: MapSharing = make_sharing(scenario.sharing)
+        self.occupant = np.full(shape, -1, dtype=np.int32)
+        for robot in self.robots:
+            self.occupant[robot.position] = robot.id
+        self.first_known = np.full(shape, -1, dtype=np.int32)
+        self.sense_count = np.zeros(shape, dtype=np.uint16)
+        self.n_explorable = self.world.n_explorable
+        self.known_explorable = 0
+        self.stall_ticks = (
+            scenario.stall_ticks
+            if scenario.stall_ticks is not None
+            else int(math.ceil(1.5 * self.n_explorable / scenario.speed)) + 100
+        )
+        self.decide_seconds = 0.0
+        self.decisions = 0
+        self.plans = 0
+
+    # ------------------------------------------------------------------ phases
+    def _alive(self) -> frozenset[int]:
+        return frozenset(r.id for r in self.robots if r.alive)
+
+    def _deliver(self, tick: int) -> None:
+        for robot_id, messages in self.comm.deliver(tick).items():
+            robot = self.robots[robot_id]
+            if not robot.alive:
+                continue
+            for message in messages:
+                if message.type in self.sharing.message_types:
+                    robot.new_cells += self.sharing.on_receive(robot_id, robot.belief, message)
+                else:
+                    robot.inbox.append(message)
+
+    def _decide(self, tick: int) -> None:
+        for robot in self.robots:
+            if not robot.alive:
+                continue
+            belief_view = robot.belief.view()
+            belief_view.flags.writeable = False
+            view = RobotView(
+                robot_id=robot.id,
+                n_robots=len(self.robots),
+                tick=tick,
+                position=robot.position,
+                belief=belief_view,
+                goal=robot.goal,
+                path_remaining=robot.path_remaining,
+                arrived=robot.arrived,
+                blocked=robot.blocked,
+                inbox=tuple(robot.inbox),
+                subnetwork=self.comm.subnetwork_of(robot.id),
+                sensor_range=self.world.sensor_range_cells,
+                speed=self.scenario.speed,
+                rng=self.streams.robots[robot.id],
+                new_cells=robot.new_cells,
+            )
+            started = time.perf_counter()
+            decision = self.strategies[robot.id].decide(view)
+            self.decide_seconds += time.perf_counter() - started
+            self.decisions += 1
+            robot.inbox.clear()
+            self._apply(robot, decision, tick)
+
+    def _apply(self, robot: Robot, decision: Decision, tick: int) -> None:
+        if not isinstance(decision, Decision):
+            raise StrategyError(
+                f"strategy {self.scenario.strategy!r} returned {type(decision).__name__}, "
+                "not a Decision"
+            )
+        for message in decision.messages:
+            if message.sender != robot.id:
+                raise StrategyError(f"robot {robot.id} sent a message as robot {message.sender}")
+            self.comm.send(dataclasses.replace(message, tick_sent=tick), tick)
+        if decision.idle:
+            self.plans += 1
+            robot.path, robot.goal = None, None
+        elif decision.goal is not None:
+            self.plans += 1
+            path = decision.path
+            if path is None:
+                raise StrategyError(f"robot {robot.id}: a goal without a path")
+            check_path(path, robot.position, decision.goal, robot.belief)
+            robot.goal = (int(decision.goal[0]), int(decision.goal[1]))
+            robot.path = np.asarray(path, dtype=np.int32)
+            robot.path_index = 0
+            robot.blocked_ticks = 0
+            if len(robot.path) == 1:  # already there
+                robot.path, robot.goal = None, None
+        else:
+            return
+        robot.arrived = False
+        robot.blocked = False
+        robot.new_cells = 0
+
+    def _move(self) -> None:
+        speed = self.scenario.speed
+        for robot in self.robots:
+            if not robot.alive or robot.path is None:
+                robot.budget = 0.0
+                continue
+            robot.budget = min(robot.budget + speed, speed + SQRT2)
+            path = robot.path
+            blocked = False
+            while robot.path_index < len(path) - 1:
+                nxt = (int(path[robot.path_index + 1, 0]), int(path[robot.path_index + 1, 1]))
+                step = SQRT2 if (nxt[0] != robot.position[0] and nxt[1] != robot.position[1]) else 1.0
+                if step > robot.budget + 1e-9:
+                    break
+                if self.occupant[nxt] >= 0:
+                    blocked = True
+                    break
+                self.occupant[robot.position] = -1
+                self.occupant[nxt] = robot.id
+                robot.position = nxt
+                robot.budget -= step
+                robot.distance += step
+                robot.path_index += 1
+            if robot.path_index >= len(path) - 1:
+                robot.path, robot.goal = None, None
+                robot.arrived = True
+                robot.budget = 0.0
+                robot.blocked_ticks = 0
+            elif blocked:
+                robot.budget = 0.0
+                robot.blocked_ticks += 1
+                if robot.blocked_ticks >= self.scenario.patience:
+                    self._detour(robot)
+            else:
+                robot.blocked_ticks = 0
+
+    def _detour(self, robot: Robot) -> None:
+        """Re-route around the robots this one can see; give up the goal if impossible."""
+        assert robot.goal is not None
+        passable = robot.belief == FREE
+        radius2 = self.world.sensor_range_cells**2
+        for other in self.robots:
+            if other.id != robot.id and other.alive:
+                d_row = other.position[0] - robot.position[0]
+                d_col = other.position[1] - robot.position[1]
+                if d_row * d_row + d_col * d_col <= radius2:
+                    passable[other.position] = False
+        goal = robot.goal
+        dist = distance_field(passable, robot.position)
+        robot.blocked_ticks = 0
+        if goal != robot.position and np.isfinite(dist[goal]):
+            robot.path = extract_path(dist, goal)
+            robot.path_index = 0
+            return
+        robot.path, robot.goal = None, None
+        robot.blocked = True
+
+    def _sense(self, tick: int) -> None:
+        radius = self.world.sensor_range_cells
+        arrival_only = self.scenario.sensing == "arrival"
+        for robot in self.robots:
+            if not robot.alive or (arrival_only and robot.travelling and tick > 0):
+                continue
+            rows, cols = visible_cells(self.truth, robot.position, radius)
+            values = self.truth_state[rows, cols]
+            fresh_to_robot = ~robot.sensed[rows, cols]
+            robot.sensed[rows, cols] = True
+            self.sense_count[rows[fresh_to_robot], cols[fresh_to_robot]] += 1
+            unknown = robot.belief[rows, cols] == UNKNOWN
+            new_rows, new_cols, new_values = rows[unknown], cols[unknown], values[unknown]
+            robot.belief[new_rows, new_cols] = new_values
+            robot.new_cells += int(new_rows.size)
+            team_new = self.first_known[new_rows, new_cols] < 0
+            if team_new.any():
+                team_rows, team_cols = new_rows[team_new], new_cols[team_new]
+                self.first_known[team_rows, team_cols] = tick
+                self.known_explorable += int(
+                    np.count_nonzero(self.world.explorable[team_rows, team_cols])
+                )
+            for message in self.sharing.on_observe(robot.id, tick, new_rows, new_cols, new_values):
+                self.comm.send(message, tick)
+
+    # ------------------------------------------------------------------ loop
+    def run(self, progress: Callable[[int, float], None] | None = None) -> RunRecord:
+        """Run to completion, ``max_ticks`` or a stall; return the run record."""
+        scenario = self.scenario
+        started = time.perf_counter()
+        positions: list[npt.NDArray[np.int32]] = []
+        alive_log: list[npt.NDArray[np.bool_]] = []
+        distance_log: list[npt.NDArray[np.float64]] = []
+        goals_log: list[npt.NDArray[np.int32]] = []
+        known_log: list[int] = []
+
+        def record() -> None:
+            positions.append(np.array([r.position for r in self.robots], dtype=np.int32))
+            alive_log.append(np.array([r.alive for r in self.robots], dtype=bool))
+            distance_log.append(np.array([r.distance for r in self.robots], dtype=np.float64))
+            goals_log.append(
+                np.array([r.goal if r.goal else (-1, -1) for r in self.robots], dtype=np.int32)
+            )
+            known_log.append(self.known_explorable)
+
+        target = math.ceil(scenario.coverage_threshold * self.n_explorable - 1e-9)
+        self.comm.update(0, {r.id: r.position for r in self.robots}, self._alive())
+        self._sense(0)
+        record()
+        status = "max_ticks"
+        last_progress_tick, last_known = 0, self.known_explorable
+        idle_streak = 0
+        tick = 0
+        if self.known_explorable >= target:
+            status = "complete"
+        else:
+            while tick < scenario.max_ticks:
+                tick += 1
+                self.comm.update(tick, {r.id: r.position for r in self.robots}, self._alive())
+                self._deliver(tick)
+                self._decide(tick)
+                self._move()
+                self._sense(tick)
+                record()
+                if progress is not None:
+                    progress(tick, self.known_explorable / self.n_explorable)
+                if self.known_explorable >= target:
+                    status = "complete"
+                    break
+                if self.known_explorable > last_known:
+                    last_known, last_progress_tick = self.known_explorable, tick
+                elif tick - last_progress_tick >= self.stall_ticks:
+                    status = "stalled"
+                    break
+                all_idle = all(r.path is None for r in self.robots if r.alive)
+                idle_streak = idle_streak + 1 if all_idle and self.comm.in_flight() == 0 else 0
+                if idle_streak >= scenario.idle_ticks:
+                    status = "stalled"
+                    break
+        wall_time = time.perf_counter() - started
+        ledger = self.comm.ledger
+        return RunRecord(
+            scenario=scenario,
+            world=self.world,
+            status=status,
+            ticks=tick,
+            positions=np.stack(positions),
+            alive=np.stack(alive_log),
+            distance=np.stack(distance_log),
+            goals=np.stack(goals_log),
+            known_explorable=np.asarray(known_log, dtype=np.int64),
+            first_known=self.first_known,
+            sense_count=self.sense_count,
+            sensed_by_robot=np.array([int(r.sensed.sum()) for r in self.robots], dtype=np.int64),
+            bytes_per_tick=ledger.bytes_per_tick(tick + 1),
+            bytes_by_type=dict(sorted(ledger.bytes_by_type.items())),
+            messages_by_type=dict(sorted(ledger.messages_by_type.items())),
+            bytes_by_robot=ledger.bytes_by_robot.copy(),
+            wall_time_s=wall_time,
+            decide_seconds=self.decide_seconds,
+            decisions=self.decisions,
+            plans=self.plans,
+        )
+
+
+def check_path(
+    path: npt.NDArray[np.integer], start: Cell, goal: Cell, belief: BeliefGrid
+) -> None:
+    """Raise :class:`StrategyError` unless ``path`` is a legal route over known-free cells."""
+    cells = np.asarray(path)
+    if cells.ndim != 2 or cells.shape[1] != 2 or len(cells) == 0:
+        raise StrategyError(f"path must be a (K, 2) array of cells, got shape {cells.shape}")
+    if tuple(cells[0]) != tuple(start) or tuple(cells[-1]) != tuple(goal):
+        raise StrategyError(f"path must run from {start} to {goal}")
+    height, width = belief.shape
+    if (cells < 0).any() or (cells[:, 0] >= height).any() or (cells[:, 1] >= width).any():
+        raise StrategyError("path leaves the map")
+    rows, cols = cells[:, 0], cells[:, 1]
+    if (belief[rows[1:], cols[1:]] != FREE).any():
+        raise StrategyError("path crosses a cell its robot does not know to be free")
+    steps = np.diff(cells, axis=0)
+    if (np.abs(steps).max(axis=1, initial=0) != 1).any():
+        raise StrategyError("path has a step that is not to an 8-neighbour")
+    diagonal = (steps[:, 0] != 0) & (steps[:, 1] != 0)
+    if diagonal.any():
+        r0, c0 = rows[:-1][diagonal], cols[:-1][diagonal]
+        dr, dc = steps[diagonal, 0], steps[diagonal, 1]
+        if (belief[r0 + dr, c0] != FREE).any() or (belief[r0, c0 + dc] != FREE).any():
+            raise StrategyError("path cuts a corner")
+
+
+def simulate(scenario: Scenario) -> RunRecord:
+    """Run one scenario and return its record."""
+    return Simulation(scenario).run()

@@ -1,0 +1,180 @@
+"""A scenario: every setting of one run, under the names of ``run``'s long options.
+
+``Scenario`` holds what the user asked for; :func:`mrexplore.sim.world.build_world`
+resolves it against a map (loading or generating it, converting metres to cells,
+placing the robots). Field names are the CLI's long options with dashes turned
+into underscores, and they are the keys of ``result.json``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from mrexplore.errors import ScenarioError
+
+Cell = tuple[int, int]
+
+START_MODES = ("together", "separate")
+SENSING_MODES = ("moving", "arrival")
+
+_LENGTH = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(m|cells?)?\s*$")
+
+
+@dataclass
+class Scenario:
+    """Everything that defines a run. Two runs of equal scenarios are identical.
+
+    Attributes:
+        map: a generator id (``office``, ``maze``, ...) or a map file path.
+        size: ``(width, height)`` in cells for generators; ``None`` = generator default.
+        map_seed: seed of the map generator; ``None`` = ``seed``.
+        cell_size: resample a file map to this many metres per cell (coarser only).
+        robots: team size.
+        strategy: strategy registry id.
+        params: strategy parameters (``--set key=value``).
+        sensor_range: sensor radius in cells, or a string such as ``"2.5m"`` in
+            metres (needs a map with a resolution).
+        speed: cells of path per tick.
+        seed: master seed; the map, start cells, communication and every robot get
+            independent streams split from it.
+        max_ticks: hard limit on the run's length.
+        start: ``"together"`` (default: adjacent cells in the largest free region),
+            ``"separate"`` (random cells of that region) or a list of ``(row, col)``.
+        sensing: ``"moving"`` (sense every tick) or ``"arrival"`` (only when not
+            travelling, Sheng et al. §2.1).
+        comm: communication model id.
+        sharing: map-sharing mechanism id.
+        coverage_threshold: share of explorable cells that completes the run.
+        stall_ticks: ticks without any new team knowledge that end the run as
+            ``stalled``; ``None`` = 1.5 x explorable cells / speed + 100.
+        idle_ticks: ticks with every robot idle and nothing in flight that end the run
+            as ``stalled``.
+        patience: ticks a robot waits behind another before it detours or gives up.
+    """
+
+    map: str = "office"
+    size: tuple[int, int] | None = None
+    map_seed: int | None = None
+    cell_size: float | None = None
+    robots: int = 4
+    strategy: str = "nearest-frontier"
+    params: dict[str, Any] = field(default_factory=dict)
+    sensor_range: float | str = 8.0
+    speed: float = 1.0
+    seed: int = 0
+    max_ticks: int = 50_000
+    start: str | list[Cell] = "together"
+    sensing: str = "moving"
+    comm: str = "unlimited"
+    sharing: str = "full"
+    coverage_threshold: float = 0.99
+    stall_ticks: int | None = None
+    idle_ticks: int = 10
+    patience: int = 3
+
+    def validate(self) -> None:
+        """Check every field that can be checked without the map."""
+        if not isinstance(self.robots, int) or self.robots <= 0:
+            raise ScenarioError(f"--robots {self.robots}: must be a positive integer")
+        if self.size is not None:
+            width, height = self.size
+            if width <= 0 or height <= 0:
+                raise ScenarioError(f"--size {width}x{height}: both sides must be positive")
+        if not math.isfinite(self.speed) or self.speed <= 0:
+            raise ScenarioError(f"--speed {self.speed}: must be a positive number of cells/tick")
+        if self.max_ticks <= 0:
+            raise ScenarioError(f"--max-ticks {self.max_ticks}: must be positive")
+        if not 0 < self.coverage_threshold <= 1:
+            raise ScenarioError(
+                f"--coverage-threshold {self.coverage_threshold}: must be in (0, 1]"
+            )
+        if self.sensing not in SENSING_MODES:
+            raise ScenarioError(f"--sensing {self.sensing}: choose one of {SENSING_MODES}")
+        if isinstance(self.start, str) and self.start not in START_MODES:
+            raise ScenarioError(
+                f"--start {self.start}: choose together, separate, or cells 'R,C;R,C'"
+            )
+        if self.cell_size is not None and self.cell_size <= 0:
+            raise ScenarioError(f"--cell-size {self.cell_size}: must be positive (metres)")
+        for name in ("patience", "idle_ticks"):
+            if getattr(self, name) <= 0:
+                raise ScenarioError(f"--{name.replace('_', '-')}: must be positive")
+        parse_length(self.sensor_range, "--sensor-range")
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready dict under the CLI's option names."""
+        data = asdict(self)
+        if self.size is not None:
+            data["size"] = f"{self.size[0]}x{self.size[1]}"
+        if not isinstance(self.start, str):
+            data["start"] = [list(cell) for cell in self.start]
+        return data
+
+
+def parse_length(value: float | str, option: str) -> tuple[float, bool]:
+    """Parse a range: a number of cells, or ``"<x>m"`` for metres.
+
+    Returns ``(amount, in_metres)``. Raises :class:`ScenarioError` for
+    non-positive or malformed values.
+
+    >>> parse_length("2.5m", "--sensor-range")
+    (2.5, True)
+    >>> parse_length(8, "--sensor-range")
+    (8.0, False)
+    """
+    if isinstance(value, str):
+        match = _LENGTH.match(value)
+        if match is None:
+            raise ScenarioError(f"{option} {value!r}: expected cells (8) or metres (2.5m)")
+        amount, unit = float(match.group(1)), match.group(2)
+        in_metres = unit == "m"
+    else:
+        amount, in_metres = float(value), False
+    if not math.isfinite(amount) or amount <= 0:
+        raise ScenarioError(f"{option} {value}: must be positive")
+    return amount, in_metres
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """Parse ``"WxH"`` (or a single ``"N"`` for a square).
+
+    >>> parse_size("200x100")
+    (200, 100)
+    """
+    parts = text.lower().replace("×", "x").split("x")
+    try:
+        if len(parts) == 1:
+            side = int(parts[0])
+            width, height = side, side
+        elif len(parts) == 2:
+            width, height = int(parts[0]), int(parts[1])
+        else:
+            raise ValueError(text)
+    except ValueError:
+        raise ScenarioError(f"--size {text!r}: expected WIDTHxHEIGHT, e.g. 200x150") from None
+    if width <= 0 or height <= 0:
+        raise ScenarioError(f"--size {text}: both sides must be positive")
+    return width, height
+
+
+def parse_cells(text: str) -> list[Cell]:
+    """Parse start cells ``"R,C;R,C"``.
+
+    >>> parse_cells("3,4;5,6")
+    [(3, 4), (5, 6)]
+    """
+    cells: list[Cell] = []
+    for chunk in text.replace(" ", "").split(";"):
+        if not chunk:
+            continue
+        try:
+            row, col = (int(v) for v in chunk.split(","))
+        except ValueError:
+            raise ScenarioError(f"--start {text!r}: expected 'R,C;R,C;...'") from None
+        cells.append((row, col))
+    if not cells:
+        raise ScenarioError(f"--start {text!r}: no cells given")
+    return cells

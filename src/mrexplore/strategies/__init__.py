@@ -1,0 +1,37 @@
+"""Coordination strategies, one module per method, and their registry."""
+
+from mrexplore.strategies.base import (
+    REPLAN_PARAMS,
+    Decision,
+    FrontierStrategy,
+    Param,
+    RobotView,
+    Strategy,
+)
+from mrexplore.strategies.burgard import Burgard
+from mrexplore.strategies.frontier_baselines import NearestFrontier, RandomFrontier
+from mrexplore.strategies.registry import (
+    available_strategies,
+    get_strategy,
+    make_strategy,
+    register,
+)
+
+for _cls in (RandomFrontier, NearestFrontier, Burgard):
+    register(_cls)
+
+__all__ = [
+    "REPLAN_PARAMS",
+    "Burgard",
+    "Decision",
+    "FrontierStrategy",
+    "NearestFrontier",
+    "Param",
+    "RandomFrontier",
+    "RobotView",
+    "Strategy",
+    "available_strategies",
+    "get_strategy",
+    "make_strategy",
+    "register",
+]

@@ -1,0 +1,230 @@
+"""The strategy protocol: given what one robot knows, choose a goal and messages.
+
+A strategy object belongs to one robot. Each tick the simulator hands it a
+:class:`RobotView` (the robot's own belief, inbox and state; never ground truth)
+and gets back a :class:`Decision`. Per-robot state lives on the object; the
+simulator builds one object per robot with :func:`make_strategy`.
+
+Re-planning rules are explicit parameters shared by every frontier strategy
+(see :data:`REPLAN_PARAMS`): a robot always plans when it has no goal, has
+arrived or was blocked; optionally when its goal stopped being a frontier,
+when its belief gained any new cell, or every ``replan_every`` ticks.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.messages import Message
+from mrexplore.errors import ScenarioError
+from mrexplore.grid.occupancy import FREE, BeliefGrid
+from mrexplore.planning import distance_field, extract_path, frontier_mask
+
+Cell = tuple[int, int]
+Path = npt.NDArray[np.int32]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One strategy parameter: default, unit, meaning and the paper's symbol."""
+
+    default: Any
+    unit: str = ""
+    help: str = ""
+    symbol: str = ""
+
+    def convert(self, name: str, value: Any) -> Any:
+        """Convert a value (possibly a ``--set`` string) to the default's type."""
+        kind = type(self.default)
+        if isinstance(value, kind) and not (kind is int and isinstance(value, bool)):
+            return value
+        try:
+            if kind is bool:
+                if isinstance(value, str):
+                    lowered = value.strip().lower()
+                    if lowered in {"1", "true", "yes", "on"}:
+                        return True
+                    if lowered in {"0", "false", "no", "off"}:
+                        return False
+                    raise ValueError(value)
+                return bool(value)
+            if kind is int:
+                as_float = float(value)
+                if not as_float.is_integer():
+                    raise ValueError(value)
+                return int(as_float)
+            if kind is float:
+                return float(value)
+            return kind(value)
+        except (TypeError, ValueError):
+            raise ScenarioError(
+                f"--set {name}={value}: expected a {kind.__name__} ({self.help or name})"
+            ) from None
+
+
+REPLAN_PARAMS: dict[str, Param] = {
+    "replan_every": Param(0, "ticks", "also re-plan every k ticks (0 = never)"),
+    "replan_on_new_info": Param(False, "", "re-plan whenever the belief gained new cells"),
+    "replan_on_target_explored": Param(
+        True, "", "re-plan when the goal is no longer a frontier cell"
+    ),
+}
+
+
+@dataclass(frozen=True)
+class RobotView:
+    """Everything a strategy may know about its robot at one tick.
+
+    ``belief`` is the robot's own map, read-only. ``subnetwork`` holds the ids of
+    the live robots it can currently reach (itself included).
+    """
+
+    robot_id: int
+    n_robots: int
+    tick: int
+    position: Cell
+    belief: BeliefGrid
+    goal: Cell | None
+    path_remaining: int
+    arrived: bool
+    blocked: bool
+    inbox: tuple[Message, ...]
+    subnetwork: frozenset[int]
+    sensor_range: float
+    speed: float
+    rng: np.random.Generator
+    new_cells: int
+
+
+@dataclass
+class Decision:
+    """What a strategy wants this tick.
+
+    * ``goal`` and ``path`` set: follow ``path`` (from the robot's cell to ``goal``).
+    * ``idle=True``: drop the current goal and stay.
+    * neither: keep doing what the robot is doing.
+    """
+
+    goal: Cell | None = None
+    path: Path | None = None
+    idle: bool = False
+    messages: list[Message] = field(default_factory=list)
+
+    @property
+    def replans(self) -> bool:
+        return self.goal is not None or self.idle
+
+
+class Strategy(ABC):
+    """Base class of every coordination strategy.
+
+    Subclasses set ``id``, ``summary``, ``citation`` and ``params``, and
+    implement :meth:`decide`.
+    """
+
+    id: ClassVar[str] = ""
+    summary: ClassVar[str] = ""
+    citation: ClassVar[str] = ""
+    params: ClassVar[Mapping[str, Param]] = {}
+
+    def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
+        self.robot_id = robot_id
+        self.n_robots = n_robots
+        self.p: dict[str, Any] = resolve_params(type(self), params)
+
+    @abstractmethod
+    def decide(self, view: RobotView) -> Decision:
+        """Choose what the robot does this tick."""
+
+
+def resolve_params(cls: type[Strategy], given: Mapping[str, Any]) -> dict[str, Any]:
+    """Defaults of ``cls.params`` overridden by ``given``, type-checked."""
+    unknown = sorted(set(given) - set(cls.params))
+    if unknown:
+        raise ScenarioError(
+            f"--set {unknown[0]}: strategy {cls.id!r} has no such parameter; "
+            f"it has: {', '.join(sorted(cls.params))}"
+        )
+    return {
+        name: spec.convert(name, given[name]) if name in given else spec.default
+        for name, spec in cls.params.items()
+    }
+
+
+def passable(belief: BeliefGrid) -> npt.NDArray[np.bool_]:
+    """Cells a robot may plan through: those it knows to be free."""
+    return np.asarray(belief == FREE)
+
+
+class FrontierStrategy(Strategy):
+    """A strategy that sends each robot to a frontier cell of its own belief.
+
+    Handles the re-planning rules; subclasses implement :meth:`choose_goal`.
+    """
+
+    params: ClassVar[Mapping[str, Param]] = REPLAN_PARAMS
+
+    def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        self.last_plan_tick = -1
+
+    def needs_plan(self, view: RobotView) -> bool:
+        """Whether the re-planning rules ask for a new goal at this tick."""
+        if view.goal is None or view.arrived or view.blocked:
+            return True
+        every = int(self.p["replan_every"])
+        if every > 0 and view.tick - self.last_plan_tick >= every:
+            return True
+        if self.p["replan_on_new_info"] and view.new_cells > 0:
+            return True
+        if self.p["replan_on_target_explored"]:
+            row, col = view.goal
+            return not bool(frontier_at(view.belief, row, col))
+        return False
+
+    def decide(self, view: RobotView) -> Decision:
+        if not self.needs_plan(view):
+            return Decision()
+        self.last_plan_tick = view.tick
+        frontier = frontier_mask(view.belief)
+        if not frontier.any():
+            return Decision(idle=True)
+        dist = distance_field(passable(view.belief), view.position, targets=frontier)
+        goal = self.choose_goal(view, frontier, dist)
+        if goal is None:
+            return Decision(idle=True)
+        return Decision(goal=goal, path=extract_path(dist, goal))
+
+    def choose_goal(
+        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+    ) -> Cell | None:
+        """Pick a reachable frontier cell, or ``None`` if there is none."""
+        raise NotImplementedError
+
+
+def frontier_at(belief: BeliefGrid, row: int, col: int) -> bool:
+    """Whether the cell is a frontier cell: known free with an unknown 4-neighbour."""
+    if belief[row, col] != FREE:
+        return False
+    height, width = belief.shape
+    for d_row, d_col in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+        r, c = row + d_row, col + d_col
+        if 0 <= r < height and 0 <= c < width and belief[r, c] < FREE:
+            return True
+    return False
+
+
+def reachable_frontier_cells(
+    frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """Rows and cols (raster order) of frontier cells with a finite distance, excluding the
+    robot's own cell."""
+    candidates = frontier & np.isfinite(dist) & (dist > 0)
+    rows, cols = np.nonzero(candidates)
+    return rows, cols

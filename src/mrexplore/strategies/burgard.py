@@ -1,0 +1,268 @@
+"""Burgard et al. (2005): coordinated exploration by utility discounting.
+
+W. Burgard, M. Moors, C. Stachniss, F. Schneider, "Coordinated multi-robot
+exploration", IEEE Transactions on Robotics 21(3), 2005; as summarised in
+Wu, Puig & Garcia §II and Meier, Stachniss & Burgard §4 (eq. 1, Algorithm 1).
+
+A coordinator (the lowest live robot id in each sub-network) assigns goals.
+Targets ``t`` are frontier cells of the coordinator's belief, each with
+utility ``U_t = 1``. Goals already held by other robots discount the utility
+of targets near them:
+
+    U_t <- U_t - P(||t - t'||),   P(d) = 1 - d / max_range  if d < max_range else 0   (eq. 1)
+
+Then, repeatedly, the pair (robot i, target t) maximising ``U_t - beta * V_t^i``
+is assigned, where ``V_t^i`` is the cost (shortest-path length over cells known
+to be free) of robot i reaching t, and the utilities around t are discounted
+before the next robot is chosen.
+
+Parameters:
+
+=============================  ==========  =======  =====  ======================================
+name                           symbol      default  unit   meaning
+=============================  ==========  =======  =====  ======================================
+``beta``                       beta        1.0      -      weight of cost against utility
+``max_range``                  max_range   0.0      cells  discount radius of P(d); 0 = the
+                                                           robot's sensor range
+``normalize_cost``             -           True     -      divide V_t^i by robot i's largest
+                                                           finite V over the targets (see notes)
+``request_timeout``            -           5        ticks  resend a goal request if no
+                                                           assignment came back
+``replan_*``                   -                           see :data:`REPLAN_PARAMS`
+=============================  ==========  =======  =====  ======================================
+
+Interpretations (where the sources are silent):
+
+* Cost normalisation: the papers give ``U`` in [0, 1] and ``V`` as path cost
+  with ``beta`` trading them off, but not the scale of ``V``. With raw path
+  lengths in cells, ``beta = 1`` would make utility irrelevant beyond one cell
+  of distance. We scale each robot's costs to [0, 1] by its largest finite cost
+  over the current targets (``normalize_cost=True``); set it to False for raw
+  costs.
+* Only robots that need a goal are (re-)assigned; the goals of the others
+  stay fixed and discount the utilities, as in the sequential greedy loop of
+  the paper applied to the robots that are free.
+* The coordinator's inputs are messages: a robot needing a goal sends a
+  ``status`` message (position, flags: 8 bytes + header) to the coordinator,
+  which answers with an ``assign`` message (target: 6 bytes + header). The
+  coordinator plans for itself without messages. Each message takes one tick,
+  so a non-coordinator robot waits two ticks for a new goal.
+
+Messages: ``status`` (robot -> coordinator), ``assign`` (coordinator -> robot).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.bytes import STATUS_BYTES, TARGET_BYTES, fixed_size
+from mrexplore.comm.messages import ASSIGN, STATUS, Message
+from mrexplore.planning import distance_field, extract_path, frontier_mask
+from mrexplore.strategies.base import (
+    REPLAN_PARAMS,
+    Cell,
+    Decision,
+    FrontierStrategy,
+    Param,
+    RobotView,
+    passable,
+)
+
+
+@dataclass(frozen=True, slots=True)
+class StatusPayload:
+    """A robot's position and whether it needs a goal."""
+
+    robot: int
+    position: Cell
+    needs_goal: bool
+
+
+@dataclass(frozen=True, slots=True)
+class AssignPayload:
+    """A goal assigned to a robot by the coordinator."""
+
+    robot: int
+    goal: Cell
+
+
+def coverage_probability(distance: npt.NDArray[np.float64], max_range: float) -> np.ndarray:
+    """Meier et al. eq. (1): P(d) = 1 - d / max_range for d < max_range, else 0."""
+    return np.where(distance < max_range, 1.0 - distance / max_range, 0.0)
+
+
+def discount(
+    utility: npt.NDArray[np.float64],
+    target_rows: npt.NDArray[np.int64],
+    target_cols: npt.NDArray[np.int64],
+    goal: Cell,
+    max_range: float,
+) -> None:
+    """Reduce the utility of every target near ``goal`` by P(||t - goal||), in place."""
+    d = np.hypot(target_rows - goal[0], target_cols - goal[1])
+    utility -= coverage_probability(d, max_range)
+
+
+def assign_greedy(
+    robots: list[int],
+    positions: Mapping[int, Cell],
+    held_goals: Mapping[int, Cell],
+    belief_passable: npt.NDArray[np.bool_],
+    frontier: npt.NDArray[np.bool_],
+    *,
+    beta: float,
+    max_range: float,
+    normalize_cost: bool,
+) -> dict[int, Cell]:
+    """Burgard's sequential assignment of frontier targets to ``robots``.
+
+    ``held_goals`` are goals of robots not being re-assigned; they discount the
+    utilities first. Returns a goal for every robot that can reach a target.
+    """
+    rows, cols = np.nonzero(frontier)
+    utility = np.ones(rows.size, dtype=np.float64)
+    for goal in held_goals.values():
+        discount(utility, rows, cols, goal, max_range)
+    costs: dict[int, npt.NDArray[np.float64]] = {}
+    for robot in robots:
+        dist = distance_field(belief_passable, positions[robot], targets=frontier)
+        cost = dist[rows, cols]
+        cost[(rows == positions[robot][0]) & (cols == positions[robot][1])] = np.inf
+        if normalize_cost:
+            finite = cost[np.isfinite(cost)]
+            if finite.size and finite.max() > 0:
+                cost = cost / finite.max()
+        costs[robot] = cost
+    assigned: dict[int, Cell] = {}
+    remaining = [r for r in robots if np.isfinite(costs[r]).any()]
+    while remaining and rows.size:
+        best_value = -np.inf
+        best: tuple[int, int] | None = None
+        for robot in remaining:  # robots in id order: ties go to the lowest id
+            value = utility - beta * costs[robot]
+            index = int(np.argmax(value))
+            if np.isfinite(value[index]) and value[index] > best_value:
+                best_value, best = float(value[index]), (robot, index)
+        if best is None:
+            break
+        robot, index = best
+        goal = (int(rows[index]), int(cols[index]))
+        assigned[robot] = goal
+        discount(utility, rows, cols, goal, max_range)
+        remaining.remove(robot)
+    return assigned
+
+
+class Burgard(FrontierStrategy):
+    """Burgard et al. 2005, run by the lowest-id robot of each sub-network."""
+
+    id = "burgard"
+    summary = "Burgard et al. 2005: utility discounting, central greedy assignment"
+    citation = "W. Burgard et al., Coordinated multi-robot exploration, IEEE T-RO 21(3), 2005"
+    params: ClassVar[Mapping[str, Param]] = {
+        "beta": Param(1.0, "", "weight of travel cost against utility", "beta"),
+        "max_range": Param(0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range"),
+        "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
+        "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks"),
+        **REPLAN_PARAMS,
+    }
+
+    def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        # Coordinator state: what it knows of the robots of its sub-network.
+        self.known_positions: dict[int, Cell] = {}
+        self.held_goals: dict[int, Cell] = {}
+        self.requests: set[int] = set()
+        # Member state: when the last request went out.
+        self.requested_at = -1
+
+    def decide(self, view: RobotView) -> Decision:
+        coordinator = min(view.subnetwork)
+        assignment: Cell | None = None
+        for message in view.inbox:
+            if message.type == STATUS and isinstance(message.payload, StatusPayload):
+                status = message.payload
+                self.known_positions[status.robot] = status.position
+                if status.needs_goal:
+                    self.requests.add(status.robot)
+                    self.held_goals.pop(status.robot, None)
+            elif message.type == ASSIGN and isinstance(message.payload, AssignPayload):
+                if message.payload.robot == self.robot_id:
+                    assignment = message.payload.goal
+
+        needs_goal = self.needs_plan(view)
+        if self.robot_id == coordinator:
+            return self._coordinate(view, needs_goal)
+        decision = Decision()
+        if assignment is not None:
+            decision = self._follow(view, assignment)
+            if decision.goal is not None:
+                self.requested_at = -1
+                return decision
+            needs_goal = True
+        if needs_goal and (
+            self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]
+        ):
+            self.requested_at = view.tick
+            status = StatusPayload(self.robot_id, view.position, True)
+            decision.messages.append(
+                Message(STATUS, self.robot_id, coordinator, fixed_size(STATUS_BYTES), status)
+            )
+        return decision
+
+    def _follow(self, view: RobotView, goal: Cell) -> Decision:
+        """Adopt an assigned goal, planning the path on this robot's own belief."""
+        dist = distance_field(passable(view.belief), view.position)
+        if not np.isfinite(dist[goal]) or goal == view.position:
+            return Decision()
+        self.last_plan_tick = view.tick
+        return Decision(goal=goal, path=extract_path(dist, goal))
+
+    def _coordinate(self, view: RobotView, needs_goal: bool) -> Decision:
+        """Coordinator: assign goals to every robot that asked for one (and itself)."""
+        members = view.subnetwork
+        self.known_positions[self.robot_id] = view.position
+        self.requests &= members
+        self.held_goals = {r: g for r, g in self.held_goals.items() if r in members}
+        if needs_goal:
+            self.requests.add(self.robot_id)
+            self.held_goals.pop(self.robot_id, None)
+        elif view.goal is not None:
+            self.held_goals[self.robot_id] = view.goal
+        if not self.requests:
+            return Decision()
+        frontier = frontier_mask(view.belief)
+        robots = sorted(r for r in self.requests if r in self.known_positions)
+        max_range = float(self.p["max_range"]) or view.sensor_range
+        assigned = assign_greedy(
+            robots,
+            self.known_positions,
+            {r: g for r, g in self.held_goals.items() if r not in self.requests},
+            passable(view.belief),
+            frontier,
+            beta=float(self.p["beta"]),
+            max_range=max_range,
+            normalize_cost=bool(self.p["normalize_cost"]),
+        )
+        decision = Decision()
+        for robot, goal in assigned.items():
+            self.held_goals[robot] = goal
+            self.requests.discard(robot)
+            if robot == self.robot_id:
+                own = self._follow(view, goal)
+                decision.goal, decision.path = own.goal, own.path
+            else:
+                payload = AssignPayload(robot, goal)
+                decision.messages.append(
+                    Message(ASSIGN, self.robot_id, robot, fixed_size(TARGET_BYTES), payload)
+                )
+        if self.robot_id in self.requests:  # nothing reachable for the coordinator
+            self.requests.discard(self.robot_id)
+            decision.idle = decision.goal is None
+        self.last_plan_tick = view.tick
+        return decision

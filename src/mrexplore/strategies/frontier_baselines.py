@@ -1,0 +1,105 @@
+"""Two uncoordinated frontier baselines.
+
+``random-frontier``
+    Each robot picks a uniformly random reachable frontier cell of its own
+    belief. Sheng et al. (2006), §5, case (1): "all the robots randomly pick
+    frontier cells as next targets".
+
+``nearest-frontier``
+    B. Yamauchi, "Frontier-based exploration using multiple robots", Agents
+    1998: each robot independently travels to the closest reachable frontier
+    (shortest path over cells it knows to be free). No coordination: robots
+    only share their maps.
+
+Parameters (both):
+
+=============================  ===========  =======  =====  ====================================
+name                           paper        default  unit   meaning
+=============================  ===========  =======  =====  ====================================
+``min_frontier_size``          (Yamauchi:   1        cells  ignore frontier clusters (8-connected)
+                               "minimum                      smaller than this; falls back to all
+                               size")                        frontier cells if none is big enough
+``replan_every``               -            0        ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -            False           re-plan on any new cell
+``replan_on_target_explored``  -            True            re-plan when the goal stops being a
+                                                            frontier cell
+=============================  ===========  =======  =====  ====================================
+
+Messages: none of their own; maps travel through the run's map-sharing mechanism.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.planning import frontier_clusters
+from mrexplore.strategies.base import (
+    REPLAN_PARAMS,
+    Cell,
+    FrontierStrategy,
+    Param,
+    RobotView,
+    reachable_frontier_cells,
+)
+
+_FRONTIER_PARAMS: dict[str, Param] = {
+    "min_frontier_size": Param(1, "cells", "ignore frontier clusters smaller than this"),
+    **REPLAN_PARAMS,
+}
+
+
+def _large_clusters_only(frontier: npt.NDArray[np.bool_], min_size: int) -> npt.NDArray[np.bool_]:
+    """Frontier cells of clusters with at least ``min_size`` cells (all if none qualifies)."""
+    if min_size <= 1:
+        return frontier
+    kept = np.zeros_like(frontier)
+    for cluster in frontier_clusters(frontier):
+        if cluster.size >= min_size:
+            kept[cluster.cells[:, 0], cluster.cells[:, 1]] = True
+    return kept if kept.any() else frontier
+
+
+class NearestFrontier(FrontierStrategy):
+    """Yamauchi (1998): go to the closest reachable frontier cell."""
+
+    id = "nearest-frontier"
+    summary = "Yamauchi 1998: each robot goes to its closest frontier, no coordination"
+    citation = "B. Yamauchi, Frontier-based exploration using multiple robots, Agents 1998"
+    params: ClassVar[Mapping[str, Param]] = _FRONTIER_PARAMS
+
+    def choose_goal(
+        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+    ) -> Cell | None:
+        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
+        rows, cols = reachable_frontier_cells(targets, dist)
+        if rows.size == 0 and targets is not frontier:
+            rows, cols = reachable_frontier_cells(frontier, dist)
+        if rows.size == 0:
+            return None
+        best = int(np.argmin(dist[rows, cols]))  # first in raster order among ties
+        return int(rows[best]), int(cols[best])
+
+
+class RandomFrontier(FrontierStrategy):
+    """Sheng et al. (2006) case (1): a uniformly random reachable frontier cell."""
+
+    id = "random-frontier"
+    summary = "each robot picks a random reachable frontier cell (Sheng 2006 §5 case 1)"
+    citation = "W. Sheng et al., Robotics and Autonomous Systems 54 (2006), §5 case (1)"
+    params: ClassVar[Mapping[str, Param]] = _FRONTIER_PARAMS
+
+    def choose_goal(
+        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+    ) -> Cell | None:
+        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
+        rows, cols = reachable_frontier_cells(targets, dist)
+        if rows.size == 0 and targets is not frontier:
+            rows, cols = reachable_frontier_cells(frontier, dist)
+        if rows.size == 0:
+            return None
+        pick = int(view.rng.integers(rows.size))
+        return int(rows[pick]), int(cols[pick])
