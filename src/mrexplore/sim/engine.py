@@ -171,7 +171,7 @@ class Simulation:
         for message in decision.messages:
             if message.sender != robot.id:
                 raise StrategyError(f"robot {robot.id} sent a message as robot {message.sender}")
-            self.comm.send(dataclasses.replace(message, tick_sent=tick), tick)
+            self._send(dataclasses.replace(message, tick_sent=tick), tick)
         if decision.idle:
             self.plans += 1
             robot.path, robot.goal = None, None
@@ -273,7 +273,17 @@ class Simulation:
                     np.count_nonzero(self.world.explorable[team_rows, team_cols])
                 )
             for message in self.sharing.on_observe(robot.id, tick, new_rows, new_cols, new_values):
-                self.comm.send(message, tick)
+                self._send(message, tick)
+
+    def _send(self, message: Message, tick: int) -> None:
+        """Hand a message to the communication model.
+
+        A robot knows its sub-network, so it does not transmit a broadcast when it
+        has nobody to reach (a lone robot sends nothing).
+        """
+        if message.is_broadcast and len(self.comm.subnetwork_of(message.sender)) < 2:
+            return
+        self.comm.send(message, tick)
 
     # ------------------------------------------------------------------ loop
     def run(self, progress: Callable[[int, float], None] | None = None) -> RunRecord:

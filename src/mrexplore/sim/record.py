@@ -138,6 +138,7 @@ class RunRecord:
                     title=f"{title}: {self.status} at tick {self.ticks}",
                     credit=self.world.grid.credit,
                     alive=self.alive,
+                    explorable=self.world.explorable,
                 )
             if gif:
                 written["gif"] = viz.save_gif(

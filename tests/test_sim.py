@@ -1,0 +1,123 @@
+"""The tick loop: completion, invariants, determinism, beliefs and bytes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mrexplore.checks import check_trace
+from mrexplore.errors import ScenarioError
+from mrexplore.grid.occupancy import UNKNOWN
+from mrexplore.metrics import coverage_curve
+from mrexplore.sim import Scenario, Simulation, simulate
+
+STRATEGIES = ["random-frontier", "nearest-frontier", "burgard"]
+
+
+@pytest.mark.parametrize("strategy", STRATEGIES)
+@pytest.mark.parametrize("robots", [1, 4])
+def test_sheng40_completes_with_a_valid_trace(strategy: str, robots: int) -> None:
+    record = simulate(Scenario(map="sheng40", robots=robots, strategy=strategy, seed=2))
+    assert record.status == "complete"
+    result = record.result()
+    assert result["explored_fraction"] >= 0.99
+    assert check_trace(record.trace_arrays(), result) == []
+
+
+@pytest.mark.parametrize("generator", ["blank", "unstructured", "cityblock", "office", "corridor", "maze"])
+def test_every_generator_completes(generator: str) -> None:
+    record = simulate(
+        Scenario(map=generator, size=(60, 50), robots=4, strategy="burgard", seed=1, sensor_range=6)
+    )
+    assert record.status == "complete", generator
+    assert check_trace(record.trace_arrays(), record.result()) == []
+
+
+def test_same_seed_same_trace_and_different_seed_differs() -> None:
+    def trace(seed: int) -> dict[str, np.ndarray]:
+        scenario = Scenario(map="office", size=(60, 40), robots=3, strategy="random-frontier", seed=seed)
+        return simulate(scenario).trace_arrays()
+
+    first, second, other = trace(5), trace(5), trace(6)
+    for name in first:
+        assert np.array_equal(first[name], second[name]), name
+    assert not np.array_equal(first["positions"][: len(other["positions"])], other["positions"][: len(first["positions"])]) or len(first["positions"]) != len(other["positions"])
+
+
+def test_beliefs_are_private_without_sharing() -> None:
+    simulation = Simulation(
+        Scenario(map="office", size=(60, 40), robots=3, sharing="none", seed=4, max_ticks=60)
+    )
+    simulation.run()
+    for robot in simulation.robots:
+        known = robot.belief != UNKNOWN
+        assert np.array_equal(known, robot.sensed), "a robot knows a cell it never sensed"
+    assert simulation.comm.ledger.total == 0
+
+
+def test_full_sharing_keeps_beliefs_equal_to_the_team_knowledge() -> None:
+    simulation = Simulation(Scenario(map="office", size=(60, 40), robots=3, seed=4, max_ticks=40))
+    simulation.run()
+    team_known = simulation.first_known >= 0
+    for robot in simulation.robots:
+        # Everything sensed up to the tick before last has been delivered.
+        delivered = (simulation.first_known >= 0) & (simulation.first_known < 40)
+        known = robot.belief != UNKNOWN
+        assert (known <= team_known).all()
+        assert known[delivered].all()
+
+
+def test_byte_totals_agree_across_views() -> None:
+    record = simulate(Scenario(map="sheng40", robots=4, strategy="burgard", seed=1))
+    total = sum(record.bytes_by_type.values())
+    assert total > 0
+    assert total == int(record.bytes_per_tick.sum()) == int(record.bytes_by_robot.sum())
+    assert set(record.bytes_by_type) == {"map_update", "status", "assign"}
+    # Status and assign messages have fixed sizes: header 7 + payload 8 / 6.
+    assert record.bytes_by_type["status"] == 15 * record.messages_by_type["status"]
+    assert record.bytes_by_type["assign"] == 13 * record.messages_by_type["assign"]
+
+
+def test_a_lone_robot_sends_nothing() -> None:
+    record = simulate(Scenario(map="sheng40", robots=1, seed=1))
+    assert sum(record.bytes_by_type.values()) == 0
+
+
+def test_coverage_never_decreases_and_matches_known_count() -> None:
+    record = simulate(Scenario(map="maze", size=(41, 41), robots=2, seed=3))
+    trace = record.trace_arrays()
+    curve = coverage_curve(trace["first_known"], trace["explorable"], len(trace["positions"]))
+    assert (np.diff(curve) >= 0).all()
+    assert np.array_equal(
+        np.round(curve * trace["explorable"].sum()).astype(np.int64), trace["known_explorable"]
+    )
+
+
+def test_sensing_on_arrival_only_senses_when_not_travelling() -> None:
+    moving = simulate(Scenario(map="sheng40", robots=2, seed=1, sensing="moving"))
+    arrival = simulate(Scenario(map="sheng40", robots=2, seed=1, sensing="arrival"))
+    assert arrival.status == moving.status == "complete"
+    assert int(arrival.sense_count.sum()) < int(moving.sense_count.sum())
+
+
+def test_max_ticks_and_stall_end_a_run() -> None:
+    short = simulate(Scenario(map="office", size=(80, 60), robots=1, max_ticks=5))
+    assert short.status == "max_ticks" and short.ticks == 5
+    # With no frontier reachable, robots idle and the run stalls quickly.
+    walled = simulate(Scenario(map="sheng40", robots=1, max_ticks=500, coverage_threshold=1.0, sensor_range=1))
+    assert walled.status in {"complete", "stalled"}
+
+
+def test_given_start_cells_are_used_and_checked() -> None:
+    record = simulate(Scenario(map="sheng40", robots=2, start=[(5, 5), (5, 8)], seed=1))
+    assert record.positions[0].tolist() == [[5, 5], [5, 8]]
+    with pytest.raises(ScenarioError, match="inside a wall"):
+        simulate(Scenario(map="sheng40", robots=1, start=[(0, 0)]))
+    with pytest.raises(ScenarioError, match="more robots than free start cells"):
+        simulate(Scenario(map="sheng40", robots=100_000))
+
+
+def test_no_two_robots_ever_share_a_cell_in_a_crowd() -> None:
+    record = simulate(Scenario(map="corridor", size=(60, 40), robots=8, seed=7, strategy="nearest-frontier"))
+    assert check_trace(record.trace_arrays()) == []
+    assert record.status == "complete"
