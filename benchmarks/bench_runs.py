@@ -11,39 +11,52 @@ from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
 from mrexplore.grid.bundled import shared_maps_dir
 from mrexplore.sim.engine import Simulation
 from mrexplore.sim.scenario import Scenario
 
 
-def scenarios(strategies: list[str], robots: list[int], max_ticks: int) -> list[tuple[str, Scenario]]:
+def scenarios(
+    strategies: list[str], robots: list[int], max_ticks: int
+) -> list[tuple[str, Scenario]]:
     maps: list[tuple[str, dict[str, object]]] = [
         ("office 200x200", {"map": "office", "size": (200, 200), "sensor_range": 10}),
         ("office 500x500", {"map": "office", "size": (500, 500), "sensor_range": 10}),
     ]
     shared = shared_maps_dir()
     if shared is not None and (shared / "ros" / "intel.yaml").exists():
-        maps.append(("intel 0.05m", {"map": str(shared / "ros" / "intel.yaml"), "sensor_range": "1.5m"}))
+        maps.append(
+            ("intel 0.05m", {"map": str(shared / "ros" / "intel.yaml"), "sensor_range": "1.5m"})
+        )
     out = []
     for label, settings in maps:
         for strategy in strategies:
             for n in robots:
                 out.append(
-                    (label, Scenario(**settings, robots=n, strategy=strategy, seed=1, max_ticks=max_ticks))  # type: ignore[arg-type]
+                    (
+                        label,
+                        Scenario(
+                            **settings, robots=n, strategy=strategy, seed=1, max_ticks=max_ticks
+                        ),
+                    )  # type: ignore[arg-type]
                 )
     return out
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--strategies", nargs="+", default=["nearest-frontier", "burgard", "random-frontier"])
+    parser.add_argument(
+        "--strategies", nargs="+", default=["nearest-frontier", "burgard", "random-frontier"]
+    )
     parser.add_argument("--robots", nargs="+", type=int, default=[1, 8, 32])
     parser.add_argument("--max-ticks", type=int, default=20_000)
     args = parser.parse_args()
     Simulation(Scenario(map="sheng40", robots=2, strategy="burgard")).run()  # compile kernels
-    header = f"{'map':<16}{'strategy':<18}{'robots':>6}{'status':>10}{'ticks':>8}{'wall s':>9}{'ms/tick':>9}{'plans':>8}{'ms/plan':>9}"
+    header = (
+        f"{'map':<16}{'strategy':<18}{'robots':>6}{'status':>10}{'ticks':>8}"
+        f"{'wall s':>9}{'ms/tick':>9}{'plans':>8}{'ms/plan':>9}"
+    )
     print(header)
     print("-" * len(header))
     for label, scenario in scenarios(args.strategies, args.robots, args.max_ticks):

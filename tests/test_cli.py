@@ -26,16 +26,45 @@ def mrexplore(*args: str, cwd: Path | None = None) -> subprocess.CompletedProces
 def test_run_writes_the_contracted_outputs(tmp_path: Path) -> None:
     out = tmp_path / "run"
     done = mrexplore(
-        "run", "--map", "office", "--size", "60x40", "--robots", "3", "--strategy", "burgard",
-        "--seed", "2", "--set", "beta=0.5", "--out", str(out), "--gif",
+        "run",
+        "--map",
+        "office",
+        "--size",
+        "60x40",
+        "--robots",
+        "3",
+        "--strategy",
+        "burgard",
+        "--seed",
+        "2",
+        "--set",
+        "beta=0.5",
+        "--out",
+        str(out),
+        "--gif",
     )
     assert done.returncode == 0, done.stderr
     assert "complete" in done.stdout
     result = json.loads((out / "result.json").read_text())
     for key in (
-        "status", "ticks", "explored_fraction", "total_distance", "bytes_total", "bytes_by_type",
-        "n_robots", "strategy", "seed", "robots_failed", "sensor_range", "speed", "map",
-        "mrexplore_version", "T90", "T99", "T100", "params",
+        "status",
+        "ticks",
+        "explored_fraction",
+        "total_distance",
+        "bytes_total",
+        "bytes_by_type",
+        "n_robots",
+        "strategy",
+        "seed",
+        "robots_failed",
+        "sensor_range",
+        "speed",
+        "map",
+        "mrexplore_version",
+        "T90",
+        "T99",
+        "T100",
+        "params",
     ):
         assert key in result, key
     assert result["params"] == {"beta": "0.5"}
@@ -51,8 +80,21 @@ def test_run_writes_the_contracted_outputs(tmp_path: Path) -> None:
 
 def test_two_cli_runs_give_identical_traces(tmp_path: Path) -> None:
     for name in ("a", "b"):
-        done = mrexplore("run", "--map", "maze", "--size", "31x31", "--robots", "2", "--seed", "9",
-                         "--strategy", "random-frontier", "--out", str(tmp_path / name))
+        done = mrexplore(
+            "run",
+            "--map",
+            "maze",
+            "--size",
+            "31x31",
+            "--robots",
+            "2",
+            "--seed",
+            "9",
+            "--strategy",
+            "random-frontier",
+            "--out",
+            str(tmp_path / name),
+        )
         assert done.returncode == 0, done.stderr
     with np.load(tmp_path / "a" / "trace.npz") as a, np.load(tmp_path / "b" / "trace.npz") as b:
         assert a.files == b.files
@@ -86,7 +128,10 @@ BAD_INPUTS = {
     "zero robots": (["--map", "sheng40", "--robots", "0"], "--robots"),
     "negative size": (["--map", "office", "--size", "-5x10"], "--size"),
     "zero range": (["--map", "sheng40", "--sensor-range", "0"], "--sensor-range"),
-    "too many robots": (["--map", "sheng40", "--robots", "5000"], "more robots than free start cells"),
+    "too many robots": (
+        ["--map", "sheng40", "--robots", "5000"],
+        "more robots than free start cells",
+    ),
     "start in wall": (["--map", "sheng40", "--robots", "1", "--start", "0,0"], "inside a wall"),
     "bad pgm header": (["--map", "{tmp}/bad.pgm"], "bad.pgm"),
     "truncated pgm": (["--map", "{tmp}/short.pgm"], "short.pgm"),
@@ -102,11 +147,17 @@ BAD_INPUTS = {
 def test_bad_input_is_one_line_and_exit_2(case: str, tmp_path: Path) -> None:
     _write(tmp_path / "bad.pgm", b"P9\n3 3\n255\n" + bytes(9))
     _write(tmp_path / "short.pgm", b"P5\n10 10\n255\n" + bytes(20))
-    _write(tmp_path / "noimage.yaml", "image: absent.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
-           "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    _write(
+        tmp_path / "noimage.yaml",
+        "image: absent.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+        "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    )
     _write(tmp_path / "ok.pgm", b"P5\n4 4\n255\n" + bytes([254] * 16))
-    _write(tmp_path / "badtype.yaml", "image: ok.pgm\nresolution: fast\norigin: [0, 0, 0]\n"
-           "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    _write(
+        tmp_path / "badtype.yaml",
+        "image: ok.pgm\nresolution: fast\norigin: [0, 0, 0]\n"
+        "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    )
     _write(tmp_path / "rows.map", "type octile\nheight 4\nwidth 4\nmap\n....\n....\n")
     args, needle = BAD_INPUTS[case]
     out = tmp_path / "out"

@@ -24,7 +24,9 @@ def test_sheng40_completes_with_a_valid_trace(strategy: str, robots: int) -> Non
     assert check_trace(record.trace_arrays(), result) == []
 
 
-@pytest.mark.parametrize("generator", ["blank", "unstructured", "cityblock", "office", "corridor", "maze"])
+@pytest.mark.parametrize(
+    "generator", ["blank", "unstructured", "cityblock", "office", "corridor", "maze"]
+)
 def test_every_generator_completes(generator: str) -> None:
     record = simulate(
         Scenario(map=generator, size=(60, 50), robots=4, strategy="burgard", seed=1, sensor_range=6)
@@ -35,13 +37,17 @@ def test_every_generator_completes(generator: str) -> None:
 
 def test_same_seed_same_trace_and_different_seed_differs() -> None:
     def trace(seed: int) -> dict[str, np.ndarray]:
-        scenario = Scenario(map="office", size=(60, 40), robots=3, strategy="random-frontier", seed=seed)
+        scenario = Scenario(
+            map="office", size=(60, 40), robots=3, strategy="random-frontier", seed=seed
+        )
         return simulate(scenario).trace_arrays()
 
     first, second, other = trace(5), trace(5), trace(6)
     for name in first:
         assert np.array_equal(first[name], second[name]), name
-    assert not np.array_equal(first["positions"][: len(other["positions"])], other["positions"][: len(first["positions"])]) or len(first["positions"]) != len(other["positions"])
+    assert not np.array_equal(
+        first["positions"][: len(other["positions"])], other["positions"][: len(first["positions"])]
+    ) or len(first["positions"]) != len(other["positions"])
 
 
 def test_beliefs_are_private_without_sharing() -> None:
@@ -104,7 +110,9 @@ def test_max_ticks_and_stall_end_a_run() -> None:
     short = simulate(Scenario(map="office", size=(80, 60), robots=1, max_ticks=5))
     assert short.status == "max_ticks" and short.ticks == 5
     # With no frontier reachable, robots idle and the run stalls quickly.
-    walled = simulate(Scenario(map="sheng40", robots=1, max_ticks=500, coverage_threshold=1.0, sensor_range=1))
+    walled = simulate(
+        Scenario(map="sheng40", robots=1, max_ticks=500, coverage_threshold=1.0, sensor_range=1)
+    )
     assert walled.status in {"complete", "stalled"}
 
 
@@ -118,6 +126,8 @@ def test_given_start_cells_are_used_and_checked() -> None:
 
 
 def test_no_two_robots_ever_share_a_cell_in_a_crowd() -> None:
-    record = simulate(Scenario(map="corridor", size=(60, 40), robots=8, seed=7, strategy="nearest-frontier"))
+    record = simulate(
+        Scenario(map="corridor", size=(60, 40), robots=8, seed=7, strategy="nearest-frontier")
+    )
     assert check_trace(record.trace_arrays()) == []
     assert record.status == "complete"

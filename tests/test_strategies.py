@@ -35,9 +35,12 @@ def test_coverage_probability_is_meier_eq_1() -> None:
 
 def test_burgard_spreads_robots_more_than_nearest_frontier() -> None:
     """Discounting keeps robots from chasing the same frontier: fewer cells sensed twice."""
+
     def overlap(strategy: str) -> float:
         values = [
-            simulate(Scenario(map="office", size=(80, 60), robots=4, strategy=strategy, seed=s)).result()["overlap"]
+            simulate(
+                Scenario(map="office", size=(80, 60), robots=4, strategy=strategy, seed=s)
+            ).result()["overlap"]
             for s in range(3)
         ]
         return sum(values) / len(values)
@@ -47,5 +50,7 @@ def test_burgard_spreads_robots_more_than_nearest_frontier() -> None:
 
 def test_replan_every_parameter_changes_behaviour() -> None:
     base = simulate(Scenario(map="office", size=(60, 40), robots=2, seed=1))
-    every = simulate(Scenario(map="office", size=(60, 40), robots=2, seed=1, params={"replan_every": 1}))
+    every = simulate(
+        Scenario(map="office", size=(60, 40), robots=2, seed=1, params={"replan_every": 1})
+    )
     assert every.plans > base.plans

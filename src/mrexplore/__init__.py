@@ -33,9 +33,7 @@ def simulate(scenario: Scenario) -> RunRecord:
     return _simulate(scenario)
 
 
-def run(
-    scenario: Scenario, out_dir: str | None = None, *, gif: bool = False
-) -> dict[str, Any]:
+def run(scenario: Scenario, out_dir: str | None = None, *, gif: bool = False) -> dict[str, Any]:
     """Run ``scenario``; return the content of ``result.json`` (and write files to ``out_dir``)."""
     record = simulate(scenario)
     if out_dir is not None:

@@ -54,12 +54,18 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
         start, end = positions[tick, robot], positions[tick + 1, robot]
         d_row, d_col = end - start
         if max(abs(d_row), abs(d_col)) == 1:
-            if d_row and d_col and (truth[start[0] + d_row, start[1]] or truth[start[0], start[1] + d_col]):
+            if (
+                d_row
+                and d_col
+                and (truth[start[0] + d_row, start[1]] or truth[start[0], start[1] + d_col])
+            ):
                 problems.append(f"robot {robot} cut a wall corner at tick {tick + 1}")
             continue
         reach = distance_field(free, (int(start[0]), int(start[1])), max_distance=max_step)
         if not reach[end[0], end[1]] <= max_step:
-            problems.append(f"robot {robot} moved {start.tolist()} -> {end.tolist()} at tick {tick + 1}")
+            problems.append(
+                f"robot {robot} moved {start.tolist()} -> {end.tolist()} at tick {tick + 1}"
+            )
     if "distance" in trace:
         distance = np.asarray(trace["distance"])
         increments = np.diff(distance, axis=0)
@@ -72,11 +78,14 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
         for robot in range(n_robots):
             if alive is not None and not alive[tick, robot]:
                 continue
-            vis_rows, vis_cols = visible_cells(truth, tuple(int(v) for v in positions[tick, robot]), radius)
+            cell = (int(positions[tick, robot, 0]), int(positions[tick, robot, 1]))
+            vis_rows, vis_cols = visible_cells(truth, cell, radius)
             seen[vis_rows, vis_cols] = True
         if (known & ~seen).any():
             r, c = np.argwhere(known & ~seen)[0]
-            problems.append(f"cell ({r}, {c}) became known at tick {tick} out of every robot's sight")
+            problems.append(
+                f"cell ({r}, {c}) became known at tick {tick} out of every robot's sight"
+            )
     if result is not None:
         expected = json_safe(summarize(dict(trace)))
         for key, value in expected.items():

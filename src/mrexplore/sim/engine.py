@@ -111,7 +111,7 @@ class Simulation:
         self.stall_ticks = (
             scenario.stall_ticks
             if scenario.stall_ticks is not None
-            else int(math.ceil(1.5 * self.n_explorable / scenario.speed)) + 100
+            else math.ceil(1.5 * self.n_explorable / scenario.speed) + 100
         )
         self.decide_seconds = 0.0
         self.decisions = 0
@@ -204,7 +204,9 @@ class Simulation:
             blocked = False
             while robot.path_index < len(path) - 1:
                 nxt = (int(path[robot.path_index + 1, 0]), int(path[robot.path_index + 1, 1]))
-                step = SQRT2 if (nxt[0] != robot.position[0] and nxt[1] != robot.position[1]) else 1.0
+                step = (
+                    SQRT2 if (nxt[0] != robot.position[0] and nxt[1] != robot.position[1]) else 1.0
+                )
                 if step > robot.budget + 1e-9:
                     break
                 if self.occupant[nxt] >= 0:
@@ -365,9 +367,7 @@ class Simulation:
         )
 
 
-def check_path(
-    path: npt.NDArray[np.integer], start: Cell, goal: Cell, belief: BeliefGrid
-) -> None:
+def check_path(path: npt.NDArray[np.integer], start: Cell, goal: Cell, belief: BeliefGrid) -> None:
     """Raise :class:`StrategyError` unless ``path`` is a legal route over known-free cells."""
     cells = np.asarray(path)
     if cells.ndim != 2 or cells.shape[1] != 2 or len(cells) == 0:

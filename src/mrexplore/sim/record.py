@@ -79,8 +79,8 @@ class RunRecord:
             "known_explorable": self.known_explorable,
             "bytes_per_tick": self.bytes_per_tick,
             "bytes_by_robot": self.bytes_by_robot,
-            "sensor_range": np.float64(self.world.sensor_range_cells),
-            "speed": np.float64(self.scenario.speed),
+            "sensor_range": np.array(self.world.sensor_range_cells, dtype=np.float64),
+            "speed": np.array(self.scenario.speed, dtype=np.float64),
         }
 
     def result(self) -> dict[str, Any]:
@@ -123,12 +123,14 @@ class RunRecord:
         out.mkdir(parents=True, exist_ok=True)
         written = {"result": out / "result.json", "trace": out / "trace.npz"}
         arrays = self.trace_arrays()
-        np.savez_compressed(written["trace"], **arrays)  # type: ignore[arg-type]  # numpy stub
+        np.savez_compressed(written["trace"], **arrays)  # type: ignore[arg-type]  # stub types allow_pickle as **kwds
         written["result"].write_text(json.dumps(self.result(), indent=2) + "\n")
         if png or gif:
             from mrexplore import viz
 
-            title = f"{self.scenario.strategy}, {self.scenario.robots} robots on {self.world.grid.name}"
+            title = (
+                f"{self.scenario.strategy}, {self.scenario.robots} robots on {self.world.grid.name}"
+            )
             if png:
                 written["final"] = viz.save_final_png(
                     out / "final.png",
@@ -142,6 +144,10 @@ class RunRecord:
                 )
             if gif:
                 written["gif"] = viz.save_gif(
-                    out / "run.gif", arrays["truth"], self.first_known, self.positions, alive=self.alive
+                    out / "run.gif",
+                    arrays["truth"],
+                    self.first_known,
+                    self.positions,
+                    alive=self.alive,
                 )
         return written

@@ -109,12 +109,7 @@ def _nearest_free_cells(region: npt.NDArray[np.bool_], seed: Cell, count: int) -
         order.append((row, col))
         for d_row, d_col in ((-1, 0), (0, 1), (1, 0), (0, -1)):
             nxt = (row + d_row, col + d_col)
-            if (
-                0 <= nxt[0] < height
-                and 0 <= nxt[1] < width
-                and region[nxt]
-                and nxt not in seen
-            ):
+            if 0 <= nxt[0] < height and 0 <= nxt[1] < width and region[nxt] and nxt not in seen:
                 seen.add(nxt)
                 queue.append(nxt)
     return tuple(order)

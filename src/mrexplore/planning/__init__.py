@@ -1,0 +1,38 @@
+"""Planning primitives on occupancy grids: pure functions, no simulator state.
+
+- :mod:`~mrexplore.planning.distance`: exact 8-connected distance fields
+  (straight step 1, diagonal sqrt(2), no corner cutting) and path extraction.
+- :mod:`~mrexplore.planning.frontiers`: frontier cells and clusters.
+- :mod:`~mrexplore.planning.gain`: information gain of candidate cells.
+- :mod:`~mrexplore.planning.visibility`: the line-of-sight rule shared with
+  :mod:`mrexplore.sensing`.
+
+Compiled kernels (numba) are built on first call and cached on disk, so importing
+this package compiles nothing.
+"""
+
+from mrexplore.planning.distance import (
+    SQRT2,
+    UnreachableTargetError,
+    distance_field,
+    extract_path,
+    path_length,
+)
+from mrexplore.planning.frontiers import FrontierCluster, frontier_clusters, frontier_mask
+from mrexplore.planning.gain import information_gain
+from mrexplore.planning.visibility import bresenham_line, disk_offsets, ray_table
+
+__all__ = [
+    "SQRT2",
+    "FrontierCluster",
+    "UnreachableTargetError",
+    "bresenham_line",
+    "disk_offsets",
+    "distance_field",
+    "extract_path",
+    "frontier_clusters",
+    "frontier_mask",
+    "information_gain",
+    "path_length",
+    "ray_table",
+]
