@@ -67,7 +67,8 @@ def test_run_writes_the_contracted_outputs(tmp_path: Path) -> None:
         "params",
     ):
         assert key in result, key
-    assert result["params"] == {"beta": "0.5"}
+    assert result["params"]["beta"] == 0.5
+    assert result["params"]["normalize_cost"] is True
     with np.load(out / "trace.npz", allow_pickle=False) as npz:
         trace = {name: npz[name] for name in npz.files}
     assert trace["truth"].dtype == np.uint8

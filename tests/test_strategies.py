@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from mrexplore.checks import check_strategy
@@ -54,3 +55,41 @@ def test_replan_every_parameter_changes_behaviour() -> None:
         Scenario(map="office", size=(60, 40), robots=2, seed=1, params={"replan_every": 1})
     )
     assert every.plans > base.plans
+
+
+def test_entry_point_plugins_are_loaded_and_checked(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A third-party strategy named in the entry-point group is found and passes the checker."""
+    from importlib.metadata import EntryPoint
+
+    from mrexplore.strategies import registry
+    from mrexplore.strategies.frontier_baselines import NearestFrontier
+
+    class FarthestFrontier(NearestFrontier):
+        id = "test-farthest-frontier"
+        summary = "test plugin: the farthest reachable frontier cell"
+
+        def choose_goal(self, view, frontier, dist):  # type: ignore[no-untyped-def]
+            from mrexplore.strategies.base import reachable_frontier_cells
+
+            rows, cols = reachable_frontier_cells(frontier, dist)
+            if rows.size == 0:
+                return None
+            best = int(np.argmax(dist[rows, cols]))
+            return int(rows[best]), int(cols[best])
+
+    import sys
+    import types
+
+    module = types.ModuleType("fake_plugin")
+    module.FarthestFrontier = FarthestFrontier  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "fake_plugin", module)
+    entry = EntryPoint(
+        name="test-farthest-frontier",
+        value="fake_plugin:FarthestFrontier",
+        group=registry.ENTRY_POINT_GROUP,
+    )
+    monkeypatch.setattr(registry, "entry_points", lambda group: [entry])
+    monkeypatch.setattr(registry, "_plugins_loaded", False)
+    monkeypatch.setattr(registry, "_REGISTRY", dict(registry._REGISTRY))
+    assert get_strategy("test-farthest-frontier") is FarthestFrontier
+    check_strategy("test-farthest-frontier")

@@ -52,19 +52,19 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
     steps = np.diff(positions, axis=0)
     for tick, robot in np.argwhere(np.abs(steps).max(axis=2) > 0):
         start, end = positions[tick, robot], positions[tick + 1, robot]
-        d_row, d_col = end - start
+        d_row, d_col = (int(v) for v in end - start)
         if max(abs(d_row), abs(d_col)) == 1:
-            if (
-                d_row
-                and d_col
-                and (truth[start[0] + d_row, start[1]] or truth[start[0], start[1] + d_col])
-            ):
-                problems.append(f"robot {robot} cut a wall corner at tick {tick + 1}")
-            continue
+            side_a = truth[start[0] + d_row, start[1]]
+            side_b = truth[start[0], start[1] + d_col]
+            if not (d_row and d_col and (side_a or side_b)):
+                continue  # a legal single step
+        # Several steps in one tick (speed, or budget carried over): a path over free
+        # cells no longer than the largest budget must exist.
         reach = distance_field(free, (int(start[0]), int(start[1])), max_distance=max_step)
         if not reach[end[0], end[1]] <= max_step:
             problems.append(
-                f"robot {robot} moved {start.tolist()} -> {end.tolist()} at tick {tick + 1}"
+                f"robot {robot} moved illegally {start.tolist()} -> {end.tolist()} "
+                f"at tick {tick + 1} (wall, corner or too far)"
             )
     if "distance" in trace:
         distance = np.asarray(trace["distance"])

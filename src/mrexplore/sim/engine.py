@@ -48,6 +48,7 @@ from mrexplore.strategies.registry import get_strategy, make_strategy
 logger = logging.getLogger(__name__)
 
 SQRT2 = math.sqrt(2.0)
+DETOUR_LOOKAHEAD = 3
 
 
 @dataclass
@@ -201,16 +202,16 @@ class Simulation:
                 continue
             robot.budget = min(robot.budget + speed, speed + SQRT2)
             path = robot.path
-            blocked = False
+            blocker: Robot | None = None
+            moved = False
             while robot.path_index < len(path) - 1:
                 nxt = (int(path[robot.path_index + 1, 0]), int(path[robot.path_index + 1, 1]))
-                step = (
-                    SQRT2 if (nxt[0] != robot.position[0] and nxt[1] != robot.position[1]) else 1.0
-                )
+                diagonal = nxt[0] != robot.position[0] and nxt[1] != robot.position[1]
+                step = SQRT2 if diagonal else 1.0
                 if step > robot.budget + 1e-9:
                     break
                 if self.occupant[nxt] >= 0:
-                    blocked = True
+                    blocker = self.robots[int(self.occupant[nxt])]
                     break
                 self.occupant[robot.position] = -1
                 self.occupant[nxt] = robot.id
@@ -218,30 +219,46 @@ class Simulation:
                 robot.budget -= step
                 robot.distance += step
                 robot.path_index += 1
+                moved = True
             if robot.path_index >= len(path) - 1:
                 robot.path, robot.goal = None, None
                 robot.arrived = True
                 robot.budget = 0.0
                 robot.blocked_ticks = 0
-            elif blocked:
-                robot.budget = 0.0
+            elif blocker is not None:
                 robot.blocked_ticks += 1
-                if robot.blocked_ticks >= self.scenario.patience:
+                # Right of way: a robot blocked by a travelling robot with a higher id
+                # waits for it to swerve, and only detours itself after a long wait.
+                patience = self.scenario.patience
+                if blocker.id > robot.id and blocker.path is not None:
+                    patience *= 4
+                if robot.blocked_ticks >= patience:
                     self._detour(robot)
-            else:
+            elif moved:
                 robot.blocked_ticks = 0
 
     def _detour(self, robot: Robot) -> None:
-        """Re-route around the robots this one can see; give up the goal if impossible."""
+        """Re-route around the robots this one can see; give up the goal if impossible.
+
+        Robots with a lower id have right of way: the detour also avoids the next
+        ``DETOUR_LOOKAHEAD`` cells of their paths, so two robots meeting head-on in
+        a corridor do not both swerve into the same lane.
+        """
         assert robot.goal is not None
         passable = robot.belief == FREE
         radius2 = self.world.sensor_range_cells**2
         for other in self.robots:
-            if other.id != robot.id and other.alive:
-                d_row = other.position[0] - robot.position[0]
-                d_col = other.position[1] - robot.position[1]
-                if d_row * d_row + d_col * d_col <= radius2:
-                    passable[other.position] = False
+            if other.id == robot.id or not other.alive:
+                continue
+            d_row = other.position[0] - robot.position[0]
+            d_col = other.position[1] - robot.position[1]
+            if d_row * d_row + d_col * d_col > radius2:
+                continue
+            passable[other.position] = False
+            if other.id < robot.id and other.path is not None:
+                ahead = other.path[other.path_index + 1 : other.path_index + 1 + DETOUR_LOOKAHEAD]
+                passable[ahead[:, 0], ahead[:, 1]] = False
+        passable[robot.position] = True
         goal = robot.goal
         dist = distance_field(passable, robot.position)
         robot.blocked_ticks = 0
@@ -364,6 +381,7 @@ class Simulation:
             decide_seconds=self.decide_seconds,
             decisions=self.decisions,
             plans=self.plans,
+            strategy_params=dict(self.strategies[0].p),
         )
 
 

@@ -63,6 +63,7 @@ class RunRecord:
     decide_seconds: float
     decisions: int
     plans: int
+    strategy_params: dict[str, Any]
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
         """The arrays of ``trace.npz``."""
@@ -88,6 +89,7 @@ class RunRecord:
         grid = self.world.grid
         out: dict[str, Any] = {"mrexplore_version": __version__}
         out.update(self.scenario.to_dict())
+        out["params"] = dict(self.strategy_params)  # defaults included, converted types
         out.update(
             {
                 "status": self.status,

@@ -21,8 +21,8 @@ name                           paper        default  unit   meaning
                                size")                        frontier cells if none is big enough
 ``replan_every``               -            0        ticks  also re-plan every k ticks (0 = never)
 ``replan_on_new_info``         -            False           re-plan on any new cell
-``replan_on_target_explored``  -            True            re-plan when the goal stops being a
-                                                            frontier cell
+``replan_on_target_explored``  -            True /          re-plan when the goal stops being a
+                                           False            frontier cell (nearest / random)
 =============================  ===========  =======  =====  ====================================
 
 Messages: none of their own; maps travel through the run's map-sharing mechanism.
@@ -85,12 +85,23 @@ class NearestFrontier(FrontierStrategy):
 
 
 class RandomFrontier(FrontierStrategy):
-    """Sheng et al. (2006) case (1): a uniformly random reachable frontier cell."""
+    """Sheng et al. (2006) case (1): a uniformly random reachable frontier cell.
+
+    Unlike ``nearest-frontier``, a robot keeps its random goal until it arrives
+    (``replan_on_target_explored=False`` by default): re-drawing a random goal
+    whenever the current one is seen from afar turns the robot into a random
+    walker that hardly ever reaches anything.
+    """
 
     id = "random-frontier"
     summary = "each robot picks a random reachable frontier cell (Sheng 2006 §5 case 1)"
     citation = "W. Sheng et al., Robotics and Autonomous Systems 54 (2006), §5 case (1)"
-    params: ClassVar[Mapping[str, Param]] = _FRONTIER_PARAMS
+    params: ClassVar[Mapping[str, Param]] = {
+        **_FRONTIER_PARAMS,
+        "replan_on_target_explored": Param(
+            False, "", "re-plan when the goal is no longer a frontier cell"
+        ),
+    }
 
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
