@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -131,3 +133,27 @@ def test_no_two_robots_ever_share_a_cell_in_a_crowd() -> None:
     )
     assert check_trace(record.trace_arrays()) == []
     assert record.status == "complete"
+
+
+@pytest.mark.parametrize(
+    ("relative", "options"),
+    [
+        ("ros/lse_arena.yaml", {"sensor_range": "1m"}),
+        ("movingai/room-32-32-4.map", {}),
+        ("movingai/den312d.map", {}),
+        ("ros/intel.yaml", {"cell_size": 0.2, "sensor_range": "3m"}),
+    ],
+)
+def test_real_maps_complete_with_a_valid_trace(
+    shared_maps: Path, relative: str, options: dict[str, object]
+) -> None:
+    scenario = Scenario(
+        map=str(shared_maps / relative),
+        robots=4,
+        strategy="burgard",
+        seed=1,
+        **options,  # type: ignore[arg-type]
+    )
+    record = simulate(scenario)
+    assert record.status == "complete"
+    assert check_trace(record.trace_arrays(), record.result()) == []

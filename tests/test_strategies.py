@@ -34,19 +34,30 @@ def test_coverage_probability_is_meier_eq_1() -> None:
     assert coverage_probability(d, 4.0).tolist() == [1.0, 0.5, 0.0, 0.0]
 
 
-def test_burgard_spreads_robots_more_than_nearest_frontier() -> None:
-    """Discounting keeps robots from chasing the same frontier: fewer cells sensed twice."""
+def test_burgard_discounting_sends_two_robots_to_opposite_frontiers() -> None:
+    """Two robots side by side in a known corridor with unknown space at both ends:
+    nearest-frontier sends both left; Burgard's discounting sends the second right."""
+    from mrexplore.grid.occupancy import FREE, UNKNOWN
+    from mrexplore.planning import frontier_mask
+    from mrexplore.strategies.burgard import assign_greedy
 
-    def overlap(strategy: str) -> float:
-        values = [
-            simulate(
-                Scenario(map="office", size=(80, 60), robots=4, strategy=strategy, seed=s)
-            ).result()["overlap"]
-            for s in range(3)
-        ]
-        return sum(values) / len(values)
-
-    assert overlap("burgard") < overlap("nearest-frontier")
+    belief = np.full((5, 40), UNKNOWN, dtype=np.int8)
+    belief[1:4, 3:37] = FREE
+    belief[0, :] = belief[4, :] = 100
+    positions = {0: (2, 12), 1: (2, 13)}
+    frontier = frontier_mask(belief)
+    goals = assign_greedy(
+        [0, 1],
+        positions,
+        {},
+        belief == FREE,
+        frontier,
+        beta=1.0,
+        max_range=8.0,
+        normalize_cost=True,
+    )
+    columns = sorted(goal[1] for goal in goals.values())
+    assert columns == [3, 36]
 
 
 def test_replan_every_parameter_changes_behaviour() -> None:
