@@ -18,7 +18,7 @@ from mrexplore.sim.scenario import Scenario
 
 
 def scenarios(
-    strategies: list[str], robots: list[int], max_ticks: int
+    strategies: list[str], robots: list[int], max_ticks: int | None
 ) -> list[tuple[str, Scenario]]:
     maps: list[tuple[str, dict[str, object]]] = [
         ("office 200x200", {"map": "office", "size": (200, 200), "sensor_range": 10}),
@@ -46,11 +46,9 @@ def scenarios(
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument(
-        "--strategies", nargs="+", default=["nearest-frontier", "burgard", "random-frontier"]
-    )
+    parser.add_argument("--strategies", nargs="+", default=["nearest-frontier", "burgard"])
     parser.add_argument("--robots", nargs="+", type=int, default=[1, 8, 32])
-    parser.add_argument("--max-ticks", type=int, default=20_000)
+    parser.add_argument("--max-ticks", type=int, default=None, help="default: automatic")
     args = parser.parse_args()
     Simulation(Scenario(map="sheng40", robots=2, strategy="burgard")).run()  # compile kernels
     header = (

@@ -33,7 +33,7 @@ def settings() -> list[dict[str, Any]]:
     return out
 
 
-def one(args: tuple[dict[str, Any], str, int, int]) -> str:
+def one(args: tuple[dict[str, Any], str, int, int | None]) -> str:
     setting, strategy, robots, max_ticks = args
     scenario = Scenario(**setting, robots=robots, strategy=strategy, seed=1, max_ticks=max_ticks)
     started = time.perf_counter()
@@ -56,7 +56,7 @@ def main() -> None:
         "--strategies", nargs="+", default=["random-frontier", "nearest-frontier", "burgard"]
     )
     parser.add_argument("--robots", nargs="+", type=int, default=[1, 4, 8])
-    parser.add_argument("--max-ticks", type=int, default=30_000)
+    parser.add_argument("--max-ticks", type=int, default=None, help="default: automatic")
     args = parser.parse_args()
     jobs = [
         (setting, strategy, robots, args.max_ticks)

@@ -75,7 +75,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--sensor-range", default="8", help="cells, or metres with 'm' (2.5m)")
     run.add_argument("--speed", type=_float("--speed"), default=1.0, help="cells per tick")
     run.add_argument("--seed", type=int, default=0)
-    run.add_argument("--max-ticks", type=_positive_int("--max-ticks"), default=50_000)
+    run.add_argument(
+        "--max-ticks",
+        type=_positive_int("--max-ticks"),
+        help="limit on the run (default: 20 x explorable cells / speed)",
+    )
     run.add_argument("--start", default="together", help="together | separate | 'R,C;R,C;...'")
     run.add_argument("--sensing", default="moving", choices=["moving", "arrival"])
     run.add_argument("--sharing", default="full", help="map sharing: full | none")

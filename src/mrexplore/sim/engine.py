@@ -114,6 +114,11 @@ class Simulation:
             if scenario.stall_ticks is not None
             else math.ceil(1.5 * self.n_explorable / scenario.speed) + 100
         )
+        self.max_ticks = (
+            scenario.max_ticks
+            if scenario.max_ticks is not None
+            else max(1000, math.ceil(20 * self.n_explorable / scenario.speed))
+        )
         self.decide_seconds = 0.0
         self.decisions = 0
         self.plans = 0
@@ -335,7 +340,7 @@ class Simulation:
         if self.known_explorable >= target:
             status = "complete"
         else:
-            while tick < scenario.max_ticks:
+            while tick < self.max_ticks:
                 tick += 1
                 self.comm.update(tick, {r.id: r.position for r in self.robots}, self._alive())
                 self._deliver(tick)
@@ -382,6 +387,7 @@ class Simulation:
             decisions=self.decisions,
             plans=self.plans,
             strategy_params=dict(self.strategies[0].p),
+            max_ticks=self.max_ticks,
         )
 
 

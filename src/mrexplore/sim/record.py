@@ -64,6 +64,7 @@ class RunRecord:
     decisions: int
     plans: int
     strategy_params: dict[str, Any]
+    max_ticks: int
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
         """The arrays of ``trace.npz``."""
@@ -90,6 +91,7 @@ class RunRecord:
         out: dict[str, Any] = {"mrexplore_version": __version__}
         out.update(self.scenario.to_dict())
         out["params"] = dict(self.strategy_params)  # defaults included, converted types
+        out["max_ticks"] = self.max_ticks  # the limit in force, also when it was automatic
         out.update(
             {
                 "status": self.status,

@@ -40,7 +40,8 @@ class Scenario:
         speed: cells of path per tick.
         seed: master seed; the map, start cells, communication and every robot get
             independent streams split from it.
-        max_ticks: hard limit on the run's length.
+        max_ticks: hard limit on the run's length; ``None`` = 20 x explorable cells /
+            speed (at least 1000), enough for every baseline on every bundled map.
         start: ``"together"`` (default: adjacent cells in the largest free region),
             ``"separate"`` (random cells of that region) or a list of ``(row, col)``.
         sensing: ``"moving"`` (sense every tick) or ``"arrival"`` (only when not
@@ -65,7 +66,7 @@ class Scenario:
     sensor_range: float | str = 8.0
     speed: float = 1.0
     seed: int = 0
-    max_ticks: int = 50_000
+    max_ticks: int | None = None
     start: str | list[Cell] = "together"
     sensing: str = "moving"
     comm: str = "unlimited"
@@ -85,7 +86,7 @@ class Scenario:
                 raise ScenarioError(f"--size {width}x{height}: both sides must be positive")
         if not math.isfinite(self.speed) or self.speed <= 0:
             raise ScenarioError(f"--speed {self.speed}: must be a positive number of cells/tick")
-        if self.max_ticks <= 0:
+        if self.max_ticks is not None and self.max_ticks <= 0:
             raise ScenarioError(f"--max-ticks {self.max_ticks}: must be positive")
         if not 0 < self.coverage_threshold <= 1:
             raise ScenarioError(
