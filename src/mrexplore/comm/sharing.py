@@ -55,6 +55,10 @@ class MapSharing(ABC):
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
         """Merge ``message`` into ``belief``; return how many cells became known."""
 
+    def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
+        """Merge every message ``robot`` got this tick, in order; return the new cells."""
+        return sum(self.on_receive(robot, belief, message) for message in messages)
+
 
 def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
     """Write ``updates`` into the cells of ``belief`` that are still unknown.
@@ -94,6 +98,24 @@ class FullSharing(MapSharing):
         payload = message.payload
         assert isinstance(payload, CellUpdates)
         return merge_unknown(belief, payload)
+
+    def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
+        # One merge for the whole tick: observations never disagree (cells only go
+        # from unknown to their true state), so the order does not matter.
+        payloads = [m.payload for m in messages]
+        if len(payloads) == 1:
+            return merge_unknown(belief, payloads[0])
+        merged = CellUpdates(
+            np.concatenate([p.rows for p in payloads]),
+            np.concatenate([p.cols for p in payloads]),
+            np.concatenate([p.values for p in payloads]),
+        )
+        current = belief[merged.rows, merged.cols]
+        unknown = current == UNKNOWN
+        rows, cols = merged.rows[unknown], merged.cols[unknown]
+        belief[rows, cols] = merged.values[unknown]
+        # A cell may arrive from several robots at once: count it once.
+        return int(np.unique(rows * belief.shape[1] + cols).size)
 
 
 class NoSharing(MapSharing):

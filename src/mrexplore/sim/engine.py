@@ -132,11 +132,10 @@ class Simulation:
             robot = self.robots[robot_id]
             if not robot.alive:
                 continue
-            for message in messages:
-                if message.type in self.sharing.message_types:
-                    robot.new_cells += self.sharing.on_receive(robot_id, robot.belief, message)
-                else:
-                    robot.inbox.append(message)
+            map_messages = [m for m in messages if m.type in self.sharing.message_types]
+            if map_messages:
+                robot.new_cells += self.sharing.on_receive_all(robot_id, robot.belief, map_messages)
+            robot.inbox.extend(m for m in messages if m.type not in self.sharing.message_types)
 
     def _decide(self, tick: int) -> None:
         for robot in self.robots:

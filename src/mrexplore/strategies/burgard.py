@@ -217,8 +217,12 @@ class Burgard(FrontierStrategy):
 
     def _follow(self, view: RobotView, goal: Cell) -> Decision:
         """Adopt an assigned goal, planning the path on this robot's own belief."""
-        dist = distance_field(passable(view.belief), view.position)
-        if not np.isfinite(dist[goal]) or goal == view.position:
+        if goal == view.position:
+            return Decision()
+        only_goal = np.zeros(view.belief.shape, dtype=bool)
+        only_goal[goal] = True
+        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
+        if not np.isfinite(dist[goal]):
             return Decision()
         self.last_plan_tick = view.tick
         return Decision(goal=goal, path=extract_path(dist, goal))
