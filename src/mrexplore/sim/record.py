@@ -16,6 +16,7 @@ goals             T+1 x N x 2 int32   each robot's goal after the tick, -1 none
 sense_count       H x W uint16        how many robots sensed the cell
 sensed_by_robot   N int64             cells each robot sensed itself
 known_explorable  T+1 int64           explorable cells known to the team
+coverage          T+1 float64         known_explorable / explorable cells
 bytes_per_tick    T+1 int64           bytes sent at each tick
 bytes_by_robot    N int64             bytes sent by each robot
 sensor_range      () float64          sensor radius in cells
@@ -79,6 +80,7 @@ class RunRecord:
             "sense_count": self.sense_count,
             "sensed_by_robot": self.sensed_by_robot,
             "known_explorable": self.known_explorable,
+            "coverage": self.known_explorable / max(self.world.n_explorable, 1),
             "bytes_per_tick": self.bytes_per_tick,
             "bytes_by_robot": self.bytes_by_robot,
             "sensor_range": np.array(self.world.sensor_range_cells, dtype=np.float64),
