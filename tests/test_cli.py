@@ -141,6 +141,9 @@ BAD_INPUTS = {
     "movingai rows": (["--map", "{tmp}/rows.map"], "rows.map"),
     "unknown set key": (["--map", "sheng40", "--set", "nope=1"], "nope"),
     "metres without resolution": (["--map", "sheng40", "--sensor-range", "2m"], "--sensor-range"),
+    "out is a file": (["--map", "sheng40", "--out", "{tmp}/ok.pgm"], "--out"),
+    "zero speed": (["--map", "sheng40", "--speed", "0"], "--speed"),
+    "unknown sharing": (["--map", "sheng40", "--sharing", "psychic"], "psychic"),
 }
 
 
@@ -164,7 +167,9 @@ def test_bad_input_is_one_line_and_exit_2(case: str, tmp_path: Path) -> None:
     out = tmp_path / "out"
     out.mkdir()
     (out / "keep.txt").write_text("earlier work")
-    done = mrexplore("run", *[a.format(tmp=tmp_path) for a in args], "--out", str(out))
+    if "--out" not in args:
+        args = [*args, "--out", str(out)]
+    done = mrexplore("run", *[a.format(tmp=tmp_path) for a in args])
     assert done.returncode == 2, (done.returncode, done.stderr)
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1, done.stderr

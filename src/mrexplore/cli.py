@@ -136,6 +136,19 @@ def _fmt(value: Any) -> str:
     return "-" if value is None else str(value)
 
 
+def _check_out_dir(out: str) -> None:
+    """Refuse an output folder that cannot be written before spending time on a run."""
+    import os
+    from pathlib import Path
+
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise ScenarioError(f"--out {out}: exists and is not a folder")
+    parent = path if path.exists() else next((p for p in path.parents if p.exists()), Path("."))
+    if not os.access(parent, os.W_OK):
+        raise ScenarioError(f"--out {out}: folder {parent} is not writable")
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     import json
 
@@ -144,6 +157,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     scenario = _scenario_from_args(args)
     make_sharing(scenario.sharing)  # unknown id -> input error before any work
+    if args.out:
+        _check_out_dir(args.out)
     simulation = Simulation(scenario)
     record = simulation.run()
     written = record.save(args.out, gif=args.gif) if args.out else {}
