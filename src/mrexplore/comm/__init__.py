@@ -4,7 +4,14 @@ from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES
 from mrexplore.comm.ledger import ByteLedger
 from mrexplore.comm.messages import Message
 from mrexplore.comm.models import COMM_MODELS, CommModel, Unlimited, make_comm_model
-from mrexplore.comm.sharing import SHARING, FullSharing, MapSharing, NoSharing, make_sharing
+from mrexplore.comm.sharing import (
+    SHARING,
+    FullSharing,
+    MapSharing,
+    NoSharing,
+    Observation,
+    make_sharing,
+)
 
 __all__ = [
     "BROADCAST",
@@ -17,6 +24,7 @@ __all__ = [
     "MapSharing",
     "Message",
     "NoSharing",
+    "Observation",
     "Unlimited",
     "make_comm_model",
     "make_sharing",

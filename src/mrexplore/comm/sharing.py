@@ -12,7 +12,7 @@ messages into a belief. It never sees ground truth.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -34,22 +34,52 @@ class CellUpdates:
     values: npt.NDArray[np.int8]
 
 
+@dataclass(frozen=True, slots=True)
+class Observation:
+    """Cells one robot sensed itself for the first time at one tick.
+
+    ``values`` are the cells' true states (FREE / OCCUPIED); ``was_unknown`` says
+    which of them the robot's belief did not hold yet (not even from messages).
+    """
+
+    rows: npt.NDArray[np.int64]
+    cols: npt.NDArray[np.int64]
+    values: npt.NDArray[np.int8]
+    was_unknown: npt.NDArray[np.bool_]
+
+
 class MapSharing(ABC):
-    """Base class of map-sharing mechanisms."""
+    """Base class of map-sharing mechanisms.
+
+    One object serves the whole team, but it keeps each robot's protocol state
+    apart and builds robot ``i``'s messages only from what robot ``i`` knows.
+    The simulator calls, each tick: :meth:`on_tick` after the links are updated
+    (to react to sub-networks merging or splitting), :meth:`on_receive_all` with
+    each robot's map messages, and :meth:`on_observe` after each robot senses.
+    """
 
     id: str = ""
     message_types: frozenset[str] = frozenset()
 
+    def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
+        """Called once before the run with the team size and the grid shape."""
+        self.n_robots = n_robots
+        self.shape = shape
+
     @abstractmethod
     def on_observe(
-        self,
-        robot: int,
-        tick: int,
-        rows: npt.NDArray[np.int64],
-        cols: npt.NDArray[np.int64],
-        values: npt.NDArray[np.int8],
+        self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
     ) -> list[Message]:
-        """Messages to send after ``robot`` observed new cells at ``tick``."""
+        """Messages to send after ``robot`` sensed new cells at ``tick``.
+
+        ``belief`` already holds the observation.
+        """
+
+    def on_tick(
+        self, tick: int, subnetworks: list[frozenset[int]], beliefs: Sequence[BeliefGrid]
+    ) -> list[Message]:
+        """Messages to send when the links are known for ``tick`` (default: none)."""
+        return []
 
     @abstractmethod
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
@@ -80,19 +110,14 @@ class FullSharing(MapSharing):
     message_types = frozenset({MAP_UPDATE})
 
     def on_observe(
-        self,
-        robot: int,
-        tick: int,
-        rows: npt.NDArray[np.int64],
-        cols: npt.NDArray[np.int64],
-        values: npt.NDArray[np.int8],
+        self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
     ) -> list[Message]:
-        if rows.size == 0:
+        new = observation.was_unknown
+        if not new.any():
             return []
-        payload = CellUpdates(rows, cols, values)
-        return [
-            Message(MAP_UPDATE, robot, BROADCAST, cell_updates_size(int(rows.size)), payload, tick)
-        ]
+        payload = CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
+        size = cell_updates_size(int(payload.rows.size))
+        return [Message(MAP_UPDATE, robot, BROADCAST, size, payload, tick)]
 
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
         payload = message.payload
@@ -124,12 +149,7 @@ class NoSharing(MapSharing):
     id = "none"
 
     def on_observe(
-        self,
-        robot: int,
-        tick: int,
-        rows: npt.NDArray[np.int64],
-        cols: npt.NDArray[np.int64],
-        values: npt.NDArray[np.int8],
+        self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
     ) -> list[Message]:
         return []
 

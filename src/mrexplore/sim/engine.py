@@ -34,6 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore.comm import CommModel, MapSharing, Message, make_comm_model, make_sharing
+from mrexplore.comm.sharing import Observation
 from mrexplore.errors import StrategyError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BeliefGrid, new_belief
 from mrexplore.planning import distance_field, extract_path
@@ -102,6 +103,7 @@ class Simulation:
         ]
         self.comm: CommModel = make_comm_model(scenario.comm, n)
         self.sharing: MapSharing = make_sharing(scenario.sharing)
+        self.sharing.bind(n, shape)
         self.occupant = np.full(shape, -1, dtype=np.int32)
         for robot in self.robots:
             self.occupant[robot.position] = robot.id
@@ -126,6 +128,13 @@ class Simulation:
     # ------------------------------------------------------------------ phases
     def _alive(self) -> frozenset[int]:
         return frozenset(r.id for r in self.robots if r.alive)
+
+    def _update_links(self, tick: int) -> None:
+        """Let the communication model see where the robots are; let sharing react."""
+        self.comm.update(tick, {r.id: r.position for r in self.robots}, self._alive())
+        beliefs = [r.belief for r in self.robots]
+        for message in self.sharing.on_tick(tick, self.comm.subnetworks(), beliefs):
+            self._send(message, tick)
 
     def _deliver(self, tick: int) -> None:
         for robot_id, messages in self.comm.deliver(tick).items():
@@ -281,21 +290,26 @@ class Simulation:
                 continue
             rows, cols = visible_cells(self.truth, robot.position, radius)
             values = self.truth_state[rows, cols]
-            fresh_to_robot = ~robot.sensed[rows, cols]
+            # Own sensing is the truth: it overrides anything received before.
+            changed = robot.belief[rows, cols] != values
+            robot.new_cells += int(np.count_nonzero(changed))
+            fresh = ~robot.sensed[rows, cols]
+            if not fresh.any():
+                continue
+            rows, cols, values = rows[fresh], cols[fresh], values[fresh]
+            was_unknown = robot.belief[rows, cols] == UNKNOWN
+            robot.belief[rows, cols] = values
             robot.sensed[rows, cols] = True
-            self.sense_count[rows[fresh_to_robot], cols[fresh_to_robot]] += 1
-            unknown = robot.belief[rows, cols] == UNKNOWN
-            new_rows, new_cols, new_values = rows[unknown], cols[unknown], values[unknown]
-            robot.belief[new_rows, new_cols] = new_values
-            robot.new_cells += int(new_rows.size)
-            team_new = self.first_known[new_rows, new_cols] < 0
+            self.sense_count[rows, cols] += 1
+            team_new = self.first_known[rows, cols] < 0
             if team_new.any():
-                team_rows, team_cols = new_rows[team_new], new_cols[team_new]
+                team_rows, team_cols = rows[team_new], cols[team_new]
                 self.first_known[team_rows, team_cols] = tick
                 self.known_explorable += int(
                     np.count_nonzero(self.world.explorable[team_rows, team_cols])
                 )
-            for message in self.sharing.on_observe(robot.id, tick, new_rows, new_cols, new_values):
+            observation = Observation(rows, cols, values, was_unknown)
+            for message in self.sharing.on_observe(robot.id, tick, observation, robot.belief):
                 self._send(message, tick)
 
     def _send(self, message: Message, tick: int) -> None:
@@ -329,7 +343,7 @@ class Simulation:
             known_log.append(self.known_explorable)
 
         target = math.ceil(scenario.coverage_threshold * self.n_explorable - 1e-9)
-        self.comm.update(0, {r.id: r.position for r in self.robots}, self._alive())
+        self._update_links(0)
         self._sense(0)
         record()
         status = "max_ticks"
@@ -341,7 +355,7 @@ class Simulation:
         else:
             while tick < self.max_ticks:
                 tick += 1
-                self.comm.update(tick, {r.id: r.position for r in self.robots}, self._alive())
+                self._update_links(tick)
                 self._deliver(tick)
                 self._decide(tick)
                 self._move()
