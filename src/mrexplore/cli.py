@@ -82,7 +82,52 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--start", default="together", help="together | separate | 'R,C;R,C;...'")
     run.add_argument("--sensing", default="moving", choices=["moving", "arrival"])
-    run.add_argument("--sharing", default="full", help="map sharing: full | none")
+    comm = run.add_argument_group("communication (DESIGN §4)")
+    comm.add_argument(
+        "--comm-range", help="communication range: cells, or metres with 'm' (default: inf)"
+    )
+    comm.add_argument(
+        "--comm-los", action="store_true", help="walls between two robots block their link"
+    )
+    comm.add_argument(
+        "--bandwidth", type=_float("--bandwidth"), help="bytes per tick per robot (default: inf)"
+    )
+    comm.add_argument(
+        "--latency", type=_positive_int("--latency"), help="ticks per hop (default: 1)"
+    )
+    comm.add_argument(
+        "--loss", type=_float("--loss"), help="probability a reception is lost (default: 0)"
+    )
+    comm.add_argument(
+        "--comm",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="any of range, los, bandwidth, latency, loss as key=value (repeatable)",
+    )
+    comm.add_argument(
+        "--fail",
+        action="append",
+        default=[],
+        metavar="ROBOT@TICK",
+        help="robot ROBOT fails at tick TICK (repeatable)",
+    )
+    comm.add_argument(
+        "--failure-rate",
+        type=_float("--failure-rate"),
+        default=0.0,
+        help="probability per tick that each live robot fails",
+    )
+    run.add_argument(
+        "--sharing", default="full", help="map sharing: full | sheng-sync | polygon | none"
+    )
+    run.add_argument(
+        "--share",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="parameter of the sharing mechanism, e.g. split_rate=1 (repeatable)",
+    )
     run.add_argument("--coverage-threshold", type=_float("--coverage-threshold"), default=0.99)
     run.add_argument("--stall-ticks", type=_positive_int("--stall-ticks"))
     run.add_argument("--idle-ticks", type=_positive_int("--idle-ticks"), default=10)
@@ -96,15 +141,55 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _scenario_from_args(args: argparse.Namespace) -> Any:
-    from mrexplore.sim.scenario import Scenario, parse_cells, parse_size
-
-    params: dict[str, str] = {}
-    for item in args.params:
+def _pairs(option: str, items: list[str]) -> dict[str, str]:
+    pairs: dict[str, str] = {}
+    for item in items:
         key, sep, value = item.partition("=")
         if not sep or not key.strip():
-            raise ScenarioError(f"--set {item!r}: expected KEY=VALUE")
-        params[key.strip()] = value.strip()
+            raise ScenarioError(f"{option} {item!r}: expected KEY=VALUE")
+        pairs[key.strip()] = value.strip()
+    return pairs
+
+
+def _comm_settings(args: argparse.Namespace) -> dict[str, Any]:
+    """Communication settings from the dedicated options and ``--comm key=value``."""
+    import math
+
+    settings: dict[str, Any] = {}
+    for key, value in _pairs("--comm", args.comm).items():
+        option = f"--comm {key}={value}"
+        try:
+            if key == "range":
+                settings["comm_range"] = value
+            elif key == "los":
+                settings["comm_los"] = value.lower() in {"1", "true", "yes", "on"}
+            elif key in {"bandwidth", "loss"}:
+                settings[key] = float(value)
+            elif key == "latency":
+                settings["latency"] = int(value)
+            else:
+                raise ScenarioError(
+                    f"{option}: unknown key; use range, los, bandwidth, latency or loss"
+                )
+        except ValueError:
+            raise ScenarioError(f"{option}: not a number") from None
+    if args.comm_range is not None:
+        settings["comm_range"] = args.comm_range
+    if args.comm_los:
+        settings["comm_los"] = True
+    for key in ("bandwidth", "latency", "loss"):
+        if getattr(args, key) is not None:
+            settings[key] = getattr(args, key)
+    comm_range = settings.get("comm_range")
+    if isinstance(comm_range, str) and comm_range.strip().lower() in {"inf", "infinity"}:
+        settings["comm_range"] = math.inf
+    return settings
+
+
+def _scenario_from_args(args: argparse.Namespace) -> Any:
+    from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
+
+    params = _pairs("--set", args.params)
     start: Any = args.start
     if start not in ("together", "separate"):
         start = parse_cells(start)
@@ -123,6 +208,10 @@ def _scenario_from_args(args: argparse.Namespace) -> Any:
         start=start,
         sensing=args.sensing,
         sharing=args.sharing,
+        sharing_params=_pairs("--share", args.share),
+        fail=[parse_failure(item) for item in args.fail],
+        failure_rate=args.failure_rate,
+        **_comm_settings(args),
         coverage_threshold=args.coverage_threshold,
         stall_ticks=args.stall_ticks,
         idle_ticks=args.idle_ticks,
@@ -156,7 +245,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     from mrexplore.sim.engine import Simulation
 
     scenario = _scenario_from_args(args)
-    make_sharing(scenario.sharing)  # unknown id -> input error before any work
+    scenario.validate()
+    make_sharing(scenario.sharing, **scenario.sharing_params)  # bad id -> input error now
     if args.out:
         _check_out_dir(args.out)
     simulation = Simulation(scenario)

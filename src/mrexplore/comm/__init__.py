@@ -1,9 +1,11 @@
 """Communication: messages, the byte model, communication models and map sharing."""
 
 from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES
+from mrexplore.comm.channels import Channel, Delayed, Lossy, Perfect
 from mrexplore.comm.ledger import ByteLedger
+from mrexplore.comm.links import AllLinks, LinkModel, RangeLinks, components
 from mrexplore.comm.messages import Message
-from mrexplore.comm.models import COMM_MODELS, CommModel, Unlimited, make_comm_model
+from mrexplore.comm.models import CommModel, Network, Unlimited, make_network
 from mrexplore.comm.sharing import (
     SHARING,
     FullSharing,
@@ -15,17 +17,25 @@ from mrexplore.comm.sharing import (
 
 __all__ = [
     "BROADCAST",
-    "COMM_MODELS",
     "HEADER_BYTES",
     "SHARING",
+    "AllLinks",
     "ByteLedger",
+    "Channel",
     "CommModel",
+    "Delayed",
     "FullSharing",
+    "LinkModel",
+    "Lossy",
     "MapSharing",
     "Message",
+    "Network",
     "NoSharing",
     "Observation",
+    "Perfect",
+    "RangeLinks",
     "Unlimited",
-    "make_comm_model",
+    "components",
+    "make_network",
     "make_sharing",
 ]

@@ -27,6 +27,8 @@ class Message:
         size_bytes: size on the wire from :mod:`mrexplore.comm.bytes`.
         payload: the content; treat it as read-only.
         tick_sent: the tick at which it was sent (set by the simulator).
+        priority: queue priority at the sender under a bandwidth limit (lower first;
+            equal priorities keep their order).
     """
 
     type: str
@@ -35,6 +37,7 @@ class Message:
     size_bytes: int
     payload: Any = field(default=None, compare=False)
     tick_sent: int = -1
+    priority: int = 0
 
     @property
     def is_broadcast(self) -> bool:

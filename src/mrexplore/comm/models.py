@@ -1,21 +1,47 @@
 """Communication models: each tick, who can talk and what gets delivered.
 
-A model has one job: given the robots' positions and who is alive, decide which
-robots are linked (and so which sub-networks exist) and deliver the messages
-sent to it. Every message handed to :meth:`CommModel.send` is counted in the
-model's :class:`~mrexplore.comm.ledger.ByteLedger` when it is transmitted.
+The built-in model is a store-and-forward :class:`Network` composed of
+
+* a :class:`~mrexplore.comm.links.LinkModel` (unlimited range, or a range in cells,
+  optionally blocked by walls): who hears whom directly; the connected components
+  of its links are the sub-networks, and every robot knows the topology of its
+  own sub-network;
+* a per-robot bandwidth (bytes per tick; excess waits in a FIFO queue per sender,
+  lower ``priority`` first, nothing is silently dropped);
+* a :class:`~mrexplore.comm.channels.Channel` per hop: latency in ticks and
+  independent loss, composed by wrapping.
+
+Broadcasts reach every robot of the sender's sub-network (as it was when the
+message was sent) by relaying: a robot that receives a broadcast re-transmits it
+once if one of its current neighbours still lacks it. A unicast follows a
+shortest path (in hops) over the current links, re-routed at every relay. Each
+transmission over one hop costs the message's size once (radio). A message that
+cannot be delivered (receiver dead, unreachable, or the reception lost) is
+counted as lost, never as delivered.
+
+Timing: messages emitted during tick ``t`` are transmitted in the network's
+:meth:`Network.flush` at the end of tick ``t`` (as far as the bandwidth allows)
+and arrive at tick ``t + latency`` (``latency >= 1``, default 1); each relay adds
+its own hop.
 """
 
 from __future__ import annotations
 
+import heapq
+import itertools
+import math
 from abc import ABC, abstractmethod
-from collections import defaultdict
-from collections.abc import Callable, Mapping
-from typing import Any
+from collections import defaultdict, deque
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.channels import Channel, Delayed, Lossy, Perfect
 from mrexplore.comm.ledger import ByteLedger
+from mrexplore.comm.links import AllLinks, Link, LinkModel, RangeLinks, components
 from mrexplore.comm.messages import Message
-from mrexplore.errors import UnknownIdError
 
 Position = tuple[int, int]
 
@@ -24,11 +50,9 @@ class CommModel(ABC):
     """Base class of communication models.
 
     The simulator calls, each tick: :meth:`update` with the robots' positions,
-    then :meth:`deliver` to get every robot's inbox, and :meth:`send` for every
-    message a robot emits during the tick.
+    :meth:`deliver` to get every robot's inbox, :meth:`send` for every message a
+    robot emits during the tick, and :meth:`flush` at the end of the tick.
     """
-
-    id: str = ""
 
     def __init__(self, n_robots: int) -> None:
         self.n_robots = n_robots
@@ -39,6 +63,10 @@ class CommModel(ABC):
         """Recompute the links for ``tick`` from positions of the live robots."""
 
     @abstractmethod
+    def links(self) -> frozenset[Link]:
+        """The direct links after the last :meth:`update`."""
+
+    @abstractmethod
     def subnetworks(self) -> list[frozenset[int]]:
         """The connected groups of live robots after the last :meth:`update`."""
 
@@ -46,13 +74,20 @@ class CommModel(ABC):
     def send(self, message: Message, tick: int) -> None:
         """Accept ``message`` emitted at ``tick``."""
 
+    def flush(self, tick: int) -> None:  # noqa: B027  # optional hook, empty by default
+        """End of ``tick``: transmit what the bandwidth allows."""
+
     @abstractmethod
     def deliver(self, tick: int) -> dict[int, list[Message]]:
         """Messages arriving at ``tick``, keyed by receiving robot id."""
 
     @abstractmethod
     def in_flight(self) -> int:
-        """How many messages are sent but not yet delivered or lost."""
+        """How many messages are queued or travelling."""
+
+    @abstractmethod
+    def describe(self) -> str:
+        """A short description for reports."""
 
     def subnetwork_of(self, robot: int) -> frozenset[int]:
         """The sub-network holding ``robot`` (just itself if it is isolated)."""
@@ -62,52 +97,252 @@ class CommModel(ABC):
         return frozenset({robot})
 
 
-class Unlimited(CommModel):
-    """Unlimited range and bandwidth, no loss: every message arrives at the next tick.
+@dataclass(eq=False)
+class _Packet:
+    message: Message
+    destinations: frozenset[int]
+    reached: set[int] = field(default_factory=set)
+    pending: set[int] = field(default_factory=set)
 
-    A broadcast reaches every other live robot; a unicast reaches its live
-    receiver. All live robots form one sub-network.
-    """
 
-    id = "unlimited"
+@dataclass(eq=False)
+class _Transmission:
+    packet: _Packet
+    transmitter: int
+    remaining: int
+    queued_tick: int
 
-    def __init__(self, n_robots: int) -> None:
+
+class Network(CommModel):
+    """Store-and-forward network over a link model, with bandwidth and a channel."""
+
+    def __init__(
+        self,
+        n_robots: int,
+        links: LinkModel,
+        *,
+        channel: Channel | None = None,
+        bandwidth: float = math.inf,
+    ) -> None:
         super().__init__(n_robots)
+        if not bandwidth > 0:
+            raise ValueError("bandwidth must be positive")
+        self.link_model = links
+        self.channel = channel if channel is not None else Perfect()
+        self.bandwidth = bandwidth
         self._alive: frozenset[int] = frozenset(range(n_robots))
-        self._queue: dict[int, list[Message]] = defaultdict(list)
+        self._links: frozenset[Link] = frozenset()
+        self._neighbours: dict[int, set[int]] = {}
+        self._groups: list[frozenset[int]] = []
+        self._group_of: dict[int, frozenset[int]] = {}
+        self._queues: dict[int, list[tuple[int, int, _Transmission]]] = defaultdict(list)
+        self._order = itertools.count()
+        self._arrivals: dict[int, list[tuple[_Packet, int, int]]] = defaultdict(list)
+        self.subnetwork_counts: list[int] = []
+        self.partition_events = 0
+        self.merge_events = 0
+        self.queue_delays: list[int] = []
+        self.hop_log: list[tuple[int, int, int, int | None, str]] = []
+        """(tick sent, transmitter, receiver, arrival tick or None if lost, type)"""
+        self.keep_hop_log = False
 
+    # ----------------------------------------------------------------- topology
     def update(self, tick: int, positions: Mapping[int, Position], alive: frozenset[int]) -> None:
         self._alive = alive
+        live_positions = {r: positions[r] for r in alive}
+        self._links = self.link_model.links(live_positions)
+        self._neighbours = {r: set() for r in alive}
+        for a, b in self._links:
+            self._neighbours[a].add(b)
+            self._neighbours[b].add(a)
+        previous = self._groups
+        self._groups = components(alive, self._links)
+        self._group_of = {r: g for g in self._groups for r in g}
+        if tick > 0:
+            self._count_events(previous)
+        self.subnetwork_counts.append(len(self._groups))
+        for robot in list(self._queues):
+            if robot not in alive:  # a dead robot's queue dies with it
+                for _, _, transmission in self._queues.pop(robot):
+                    self.ledger.record_lost(transmission.packet.message)
+
+    def _count_events(self, previous: list[frozenset[int]]) -> None:
+        live_previous = [g & self._alive for g in previous]
+        for group in self._groups:
+            if sum(1 for old in live_previous if old & group) > 1:
+                self.merge_events += 1
+        for old in live_previous:
+            if sum(1 for group in self._groups if group & old) > 1:
+                self.partition_events += 1
+
+    def links(self) -> frozenset[Link]:
+        return self._links
 
     def subnetworks(self) -> list[frozenset[int]]:
-        return [self._alive] if self._alive else []
+        return list(self._groups)
 
+    # ----------------------------------------------------------------- sending
     def send(self, message: Message, tick: int) -> None:
-        self.ledger.record(message, tick)
-        self._queue[tick + 1].append(message)
+        sender = message.sender
+        if sender not in self._alive:
+            return
+        self.ledger.count_message(message)
+        group = self._group_of.get(sender, frozenset({sender}))
+        if message.is_broadcast:
+            destinations = group - {sender}
+        elif message.dest in group and message.dest != sender:
+            destinations = frozenset({message.dest})
+        else:
+            self.ledger.record_lost(message)  # receiver dead or out of reach
+            return
+        if not destinations:
+            return
+        packet = _Packet(message, destinations, reached={sender})
+        self._enqueue(_Transmission(packet, sender, message.size_bytes, tick))
+
+    def _enqueue(self, transmission: _Transmission) -> None:
+        priority = transmission.packet.message.priority
+        heapq.heappush(
+            self._queues[transmission.transmitter],
+            (priority, next(self._order), transmission),
+        )
+
+    def flush(self, tick: int) -> None:
+        for robot in sorted(self._queues):
+            queue = self._queues[robot]
+            budget = self.bandwidth
+            while queue and budget > 0:
+                transmission = queue[0][2]
+                n_bytes = int(min(transmission.remaining, budget))
+                self.ledger.record_bytes(transmission.packet.message, robot, tick, n_bytes)
+                transmission.remaining -= n_bytes
+                budget -= n_bytes
+                if transmission.remaining > 0:
+                    break
+                heapq.heappop(queue)
+                self._complete(transmission, tick)
+
+    def _complete(self, transmission: _Transmission, tick: int) -> None:
+        """A hop finished transmitting at ``tick``: schedule its receptions."""
+        packet = transmission.packet
+        message = packet.message
+        transmitter = transmission.transmitter
+        self.ledger.count_hop(message)
+        self.queue_delays.append(tick - transmission.queued_tick)
+        neighbours = self._neighbours.get(transmitter, set())
+        if message.is_broadcast:
+            receivers = sorted(
+                n
+                for n in neighbours
+                if n in packet.destinations and n not in packet.reached and n not in packet.pending
+            )
+        else:
+            hop = self._next_hop(transmitter, message.dest)
+            if hop is None:
+                self.ledger.record_lost(message)
+                return
+            receivers = [hop]
+        for receiver, arrival in zip(
+            receivers, self.channel.arrivals(receivers, tick), strict=True
+        ):
+            if self.keep_hop_log:
+                self.hop_log.append((tick, transmitter, receiver, arrival, message.type))
+            if arrival is None:
+                if receiver in packet.destinations:
+                    self.ledger.record_lost(message)
+                continue
+            packet.pending.add(receiver)
+            self._arrivals[arrival].append((packet, receiver, transmitter))
+
+    def _next_hop(self, source: int, dest: int) -> int | None:
+        """First robot on a shortest path (in hops) from ``source`` to ``dest``."""
+        if dest in self._neighbours.get(source, set()):
+            return dest
+        previous: dict[int, int] = {source: source}
+        frontier = deque([source])
+        while frontier:
+            node = frontier.popleft()
+            for nxt in sorted(self._neighbours.get(node, set())):
+                if nxt not in previous:
+                    previous[nxt] = node
+                    if nxt == dest:
+                        while previous[nxt] != source:
+                            nxt = previous[nxt]
+                        return nxt
+                    frontier.append(nxt)
+        return None
 
     def deliver(self, tick: int) -> dict[int, list[Message]]:
         inbox: dict[int, list[Message]] = defaultdict(list)
-        for message in self._queue.pop(tick, []):
+        for packet, receiver, _transmitter in self._arrivals.pop(tick, []):
+            message = packet.message
+            packet.pending.discard(receiver)
+            if receiver not in self._alive:
+                if receiver in packet.destinations:
+                    self.ledger.record_lost(message)
+                continue
+            if receiver in packet.reached:
+                continue
+            packet.reached.add(receiver)
             if message.is_broadcast:
-                for robot in sorted(self._alive):
-                    if robot != message.sender:
-                        inbox[robot].append(message)
-            elif message.dest in self._alive:
-                inbox[message.dest].append(message)
+                inbox[receiver].append(message)
+                missing = {
+                    n
+                    for n in self._neighbours.get(receiver, set())
+                    if n in packet.destinations
+                    and n not in packet.reached
+                    and n not in packet.pending
+                }
+                if missing:
+                    self._enqueue(_Transmission(packet, receiver, message.size_bytes, tick))
+            elif receiver == message.dest:
+                inbox[receiver].append(message)
+            else:  # relay a unicast
+                self._enqueue(_Transmission(packet, receiver, message.size_bytes, tick))
         return inbox
 
     def in_flight(self) -> int:
-        return sum(len(messages) for messages in self._queue.values())
+        queued = sum(len(q) for q in self._queues.values())
+        return queued + sum(len(a) for a in self._arrivals.values())
+
+    def describe(self) -> str:
+        bandwidth = "" if math.isinf(self.bandwidth) else f", {self.bandwidth:g} B/tick"
+        return f"{self.link_model.describe()}{bandwidth}, {self.channel.describe()}"
+
+    def signal_strength(self, a: Position, b: Position) -> float:
+        """Relative signal strength between two cells (1/d^2, Vazquez & Malcolm)."""
+        return self.link_model.signal_strength(a, b)
+
+    def subnetwork_count_array(self) -> npt.NDArray[np.int64]:
+        return np.asarray(self.subnetwork_counts, dtype=np.int64)
 
 
-COMM_MODELS: dict[str, Callable[..., CommModel]] = {"unlimited": Unlimited}
+def make_network(
+    n_robots: int,
+    *,
+    comm_range: float = math.inf,
+    comm_los: bool = False,
+    bandwidth: float = math.inf,
+    latency: int = 1,
+    loss: float = 0.0,
+    occupied: npt.NDArray[np.bool_] | None = None,
+    rng: np.random.Generator | None = None,
+) -> Network:
+    """Compose the built-in network from the scenario's communication settings."""
+    if math.isinf(comm_range) and not comm_los:
+        links: LinkModel = AllLinks()
+    else:
+        links = RangeLinks(comm_range, line_of_sight=comm_los, occupied=occupied)
+    channel: Channel = Perfect()
+    if latency != 1:
+        channel = Delayed(channel, latency)
+    if loss > 0:
+        if rng is None:
+            raise ValueError("a lossy channel needs a random generator")
+        channel = Lossy(channel, loss, rng)
+    return Network(n_robots, links, channel=channel, bandwidth=bandwidth)
 
 
-def make_comm_model(name: str, n_robots: int, **params: Any) -> CommModel:
-    """Build a communication model by registry id."""
-    try:
-        factory = COMM_MODELS[name]
-    except KeyError:
-        raise UnknownIdError("communication model", name, list(COMM_MODELS)) from None
-    return factory(n_robots, **params)
+def Unlimited(n_robots: int) -> Network:  # capitalised: the public name of a model
+    """Unlimited range and bandwidth, no loss: every message arrives at the next tick."""
+    return Network(n_robots, AllLinks())

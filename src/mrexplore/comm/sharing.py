@@ -21,7 +21,7 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, cell_updates_size
 from mrexplore.comm.messages import MAP_UPDATE, Message
-from mrexplore.errors import UnknownIdError
+from mrexplore.errors import ScenarioError, UnknownIdError
 from mrexplore.grid.occupancy import UNKNOWN, BeliefGrid
 
 
@@ -88,6 +88,10 @@ class MapSharing(ABC):
     def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
         """Merge every message ``robot`` got this tick, in order; return the new cells."""
         return sum(self.on_receive(robot, belief, message) for message in messages)
+
+    def metrics(self) -> dict[str, Any]:
+        """Mechanism-specific metrics for ``result.json`` (default: none)."""
+        return {}
 
 
 def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
@@ -166,4 +170,21 @@ def make_sharing(name: str, **params: Any) -> MapSharing:
         factory = SHARING[name]
     except KeyError:
         raise UnknownIdError("sharing mechanism", name, list(SHARING)) from None
-    return factory(**params)
+    converted = {key: _number_or_text(value) for key, value in params.items()}
+    try:
+        return factory(**converted)
+    except (TypeError, ValueError) as error:
+        given = ", ".join(f"{k}={v}" for k, v in params.items())
+        raise ScenarioError(f"--share {given}: not valid for {name!r} ({error})") from None
+
+
+def _number_or_text(value: Any) -> Any:
+    """``--share`` values arrive as text: turn numbers into int or float."""
+    if not isinstance(value, str):
+        return value
+    for kind in (int, float):
+        try:
+            return kind(value)
+        except ValueError:
+            pass
+    return value

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm import CommModel, MapSharing, Message, make_comm_model, make_sharing
+from mrexplore.comm import CommModel, MapSharing, Message, make_network, make_sharing
 from mrexplore.comm.sharing import Observation
 from mrexplore.errors import StrategyError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BeliefGrid, new_belief
@@ -42,7 +42,7 @@ from mrexplore.seeding import make_streams
 from mrexplore.sensing import visible_cells
 from mrexplore.sim.record import RunRecord
 from mrexplore.sim.scenario import Cell, Scenario
-from mrexplore.sim.world import World, build_world
+from mrexplore.sim.world import World, build_world, cells_from_length
 from mrexplore.strategies.base import Decision, RobotView, Strategy
 from mrexplore.strategies.registry import get_strategy, make_strategy
 
@@ -101,8 +101,26 @@ class Simulation:
         self.strategies: list[Strategy] = [
             make_strategy(scenario.strategy, i, n, dict(scenario.params)) for i in range(n)
         ]
-        self.comm: CommModel = make_comm_model(scenario.comm, n)
-        self.sharing: MapSharing = make_sharing(scenario.sharing)
+        comm_range = (
+            math.inf
+            if isinstance(scenario.comm_range, float) and math.isinf(scenario.comm_range)
+            else cells_from_length(scenario.comm_range, self.world.grid, "--comm-range")
+        )
+        self.comm_range_cells = comm_range
+        self.comm: CommModel = make_network(
+            n,
+            comm_range=comm_range,
+            comm_los=scenario.comm_los,
+            bandwidth=scenario.bandwidth,
+            latency=scenario.latency,
+            loss=scenario.loss,
+            occupied=self.truth,
+            rng=self.streams.comm,
+        )
+        self.failures: dict[int, list[int]] = {}
+        for robot_id, fail_tick in scenario.fail:
+            self.failures.setdefault(fail_tick, []).append(robot_id)
+        self.sharing: MapSharing = make_sharing(scenario.sharing, **scenario.sharing_params)
         self.sharing.bind(n, shape)
         self.occupant = np.full(shape, -1, dtype=np.int32)
         for robot in self.robots:
@@ -128,6 +146,23 @@ class Simulation:
     # ------------------------------------------------------------------ phases
     def _alive(self) -> frozenset[int]:
         return frozenset(r.id for r in self.robots if r.alive)
+
+    def _fail(self, tick: int) -> None:
+        """Robots failing at ``tick`` stop moving, sensing and communicating.
+
+        A failed robot stays where it is, an obstacle for the others.
+        """
+        failing = set(self.failures.get(tick, []))
+        rate = self.scenario.failure_rate
+        if rate > 0:
+            draws = self.streams.failures.random(len(self.robots))
+            failing |= {r.id for r in self.robots if r.alive and draws[r.id] < rate}
+        for robot_id in sorted(failing):
+            robot = self.robots[robot_id]
+            if robot.alive:
+                robot.alive = False
+                robot.path, robot.goal = None, None
+                robot.inbox.clear()
 
     def _update_links(self, tick: int) -> None:
         """Let the communication model see where the robots are; let sharing react."""
@@ -345,6 +380,7 @@ class Simulation:
         target = math.ceil(scenario.coverage_threshold * self.n_explorable - 1e-9)
         self._update_links(0)
         self._sense(0)
+        self.comm.flush(0)
         record()
         status = "max_ticks"
         last_progress_tick, last_known = 0, self.known_explorable
@@ -355,11 +391,13 @@ class Simulation:
         else:
             while tick < self.max_ticks:
                 tick += 1
+                self._fail(tick)
                 self._update_links(tick)
                 self._deliver(tick)
                 self._decide(tick)
                 self._move()
                 self._sense(tick)
+                self.comm.flush(tick)
                 record()
                 if progress is not None:
                     progress(tick, self.known_explorable / self.n_explorable)
@@ -370,6 +408,9 @@ class Simulation:
                     last_known, last_progress_tick = self.known_explorable, tick
                 elif tick - last_progress_tick >= self.stall_ticks:
                     status = "stalled"
+                    break
+                if not any(r.alive for r in self.robots):
+                    status = "stalled"  # nobody left to explore
                     break
                 all_idle = all(r.path is None for r in self.robots if r.alive)
                 idle_streak = idle_streak + 1 if all_idle and self.comm.in_flight() == 0 else 0
@@ -400,6 +441,16 @@ class Simulation:
             decisions=self.decisions,
             plans=self.plans,
             strategy_params=dict(self.strategies[0].p),
+            comm_range_cells=self.comm_range_cells,
+            comm_description=self.comm.describe(),
+            subnetworks=np.asarray(getattr(self.comm, "subnetwork_counts", []), dtype=np.int64),
+            partition_events=int(getattr(self.comm, "partition_events", 0)),
+            merge_events=int(getattr(self.comm, "merge_events", 0)),
+            messages_lost=ledger.lost,
+            lost_by_type=dict(sorted(ledger.lost_by_type.items())),
+            hops_by_type=dict(sorted(ledger.hops_by_type.items())),
+            queue_delay_mean=float(np.mean(getattr(self.comm, "queue_delays", [0]) or [0])),
+            sharing_metrics=self.sharing.metrics(),
             max_ticks=self.max_ticks,
         )
 

@@ -19,6 +19,7 @@ known_explorable  T+1 int64           explorable cells known to the team
 coverage          T+1 float64         known_explorable / explorable cells
 bytes_per_tick    T+1 int64           bytes sent at each tick
 bytes_by_robot    N int64             bytes sent by each robot
+subnetworks       T+1 int64           number of sub-networks at each tick
 sensor_range      () float64          sensor radius in cells
 speed             () float64          cells of path per tick
 ================  ==================  ==============================================
@@ -66,6 +67,16 @@ class RunRecord:
     plans: int
     strategy_params: dict[str, Any]
     max_ticks: int
+    comm_range_cells: float
+    comm_description: str
+    subnetworks: npt.NDArray[np.int64]
+    partition_events: int
+    merge_events: int
+    messages_lost: int
+    lost_by_type: dict[str, int]
+    hops_by_type: dict[str, int]
+    queue_delay_mean: float
+    sharing_metrics: dict[str, Any]
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
         """The arrays of ``trace.npz``."""
@@ -83,6 +94,7 @@ class RunRecord:
             "coverage": self.known_explorable / max(self.world.n_explorable, 1),
             "bytes_per_tick": self.bytes_per_tick,
             "bytes_by_robot": self.bytes_by_robot,
+            "subnetworks": self.subnetworks,
             "sensor_range": np.array(self.world.sensor_range_cells, dtype=np.float64),
             "speed": np.array(self.scenario.speed, dtype=np.float64),
         }
@@ -114,6 +126,19 @@ class RunRecord:
                 "bytes_total": int(sum(self.bytes_by_type.values())),
                 "bytes_by_type": self.bytes_by_type,
                 "messages_by_type": self.messages_by_type,
+                "hops_by_type": self.hops_by_type,
+                "messages_lost": self.messages_lost,
+                "lost_by_type": self.lost_by_type,
+                "queue_delay_mean": self.queue_delay_mean,
+                "comm_model": self.comm_description,
+                "comm_range_cells": self.comm_range_cells,
+                "subnetworks_max": int(self.subnetworks.max(initial=1)),
+                "subnetworks_mean": float(self.subnetworks.mean())
+                if self.subnetworks.size
+                else 1.0,
+                "partition_events": self.partition_events,
+                "merge_events": self.merge_events,
+                **self.sharing_metrics,
                 "bytes_by_robot": [int(b) for b in self.bytes_by_robot],
                 "wall_time_s": self.wall_time_s,
                 "decisions": self.decisions,

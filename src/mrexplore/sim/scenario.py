@@ -20,7 +20,7 @@ Cell = tuple[int, int]
 START_MODES = ("together", "separate")
 SENSING_MODES = ("moving", "arrival")
 
-_LENGTH = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(m|cells?)?\s*$")
+_LENGTH = re.compile(r"^\s*(-?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(m|cells?)?\s*$")
 
 
 @dataclass
@@ -46,8 +46,15 @@ class Scenario:
             ``"separate"`` (random cells of that region) or a list of ``(row, col)``.
         sensing: ``"moving"`` (sense every tick) or ``"arrival"`` (only when not
             travelling, Sheng et al. §2.1).
-        comm: communication model id.
+        comm_range: communication range in cells (or ``"20m"``); ``inf`` = unlimited.
+        comm_los: walls on the straight line between two robots block their link.
+        bandwidth: bytes each robot may transmit per tick (``inf`` = unlimited).
+        latency: ticks a message takes over one hop (at least 1).
+        loss: probability that one reception of one hop is lost.
+        fail: robots that fail, as ``(robot, tick)`` pairs.
+        failure_rate: probability per tick that each live robot fails.
         sharing: map-sharing mechanism id.
+        sharing_params: parameters of the sharing mechanism (``--share key=value``).
         coverage_threshold: share of explorable cells that completes the run.
         stall_ticks: ticks without any new team knowledge that end the run as
             ``stalled``; ``None`` = 1.5 x explorable cells / speed + 100.
@@ -69,8 +76,15 @@ class Scenario:
     max_ticks: int | None = None
     start: str | list[Cell] = "together"
     sensing: str = "moving"
-    comm: str = "unlimited"
+    comm_range: float | str = math.inf
+    comm_los: bool = False
+    bandwidth: float = math.inf
+    latency: int = 1
+    loss: float = 0.0
+    fail: list[tuple[int, int]] = field(default_factory=list)
+    failure_rate: float = 0.0
     sharing: str = "full"
+    sharing_params: dict[str, Any] = field(default_factory=dict)
     coverage_threshold: float = 0.99
     stall_ticks: int | None = None
     idle_ticks: int = 10
@@ -104,6 +118,23 @@ class Scenario:
             if getattr(self, name) <= 0:
                 raise ScenarioError(f"--{name.replace('_', '-')}: must be positive")
         parse_length(self.sensor_range, "--sensor-range")
+        if not (isinstance(self.comm_range, float) and math.isinf(self.comm_range)):
+            parse_length(self.comm_range, "--comm-range")
+        if not self.bandwidth > 0:
+            raise ScenarioError(f"--bandwidth {self.bandwidth}: must be positive (bytes per tick)")
+        if not isinstance(self.latency, int) or self.latency < 1:
+            raise ScenarioError(f"--latency {self.latency}: must be a whole number of ticks >= 1")
+        if not 0.0 <= self.loss <= 1.0:
+            raise ScenarioError(f"--loss {self.loss}: must be a probability in [0, 1]")
+        if not 0.0 <= self.failure_rate <= 1.0:
+            raise ScenarioError(f"--failure-rate {self.failure_rate}: must be in [0, 1]")
+        for robot, tick in self.fail:
+            if not 0 <= robot < self.robots:
+                raise ScenarioError(
+                    f"--fail {robot}@{tick}: no robot {robot} in a team of {self.robots}"
+                )
+            if tick < 1:
+                raise ScenarioError(f"--fail {robot}@{tick}: the tick must be >= 1")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready dict under the CLI's option names."""
@@ -112,6 +143,7 @@ class Scenario:
             data["size"] = f"{self.size[0]}x{self.size[1]}"
         if not isinstance(self.start, str):
             data["start"] = [list(cell) for cell in self.start]
+        data["fail"] = [f"{robot}@{tick}" for robot, tick in self.fail]
         return data
 
 
@@ -159,6 +191,21 @@ def parse_size(text: str) -> tuple[int, int]:
     if width <= 0 or height <= 0:
         raise ScenarioError(f"--size {text}: both sides must be positive")
     return width, height
+
+
+def parse_failure(text: str) -> tuple[int, int]:
+    """Parse ``"ROBOT@TICK"``.
+
+    >>> parse_failure("3@120")
+    (3, 120)
+    """
+    robot, sep, tick = text.partition("@")
+    try:
+        if not sep:
+            raise ValueError(text)
+        return int(robot), int(tick)
+    except ValueError:
+        raise ScenarioError(f"--fail {text!r}: expected ROBOT@TICK, e.g. 2@150") from None
 
 
 def parse_cells(text: str) -> list[Cell]:
