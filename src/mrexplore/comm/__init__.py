@@ -39,3 +39,7 @@ __all__ = [
     "make_network",
     "make_sharing",
 ]
+
+from mrexplore.comm.sheng_sync import ShengSync  # registers after sharing
+
+SHARING["sheng-sync"] = ShengSync

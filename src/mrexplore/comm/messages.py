@@ -9,6 +9,11 @@ from mrexplore.comm.bytes import BROADCAST
 
 # Message types. Strategies may define their own; these are the built-in ones.
 MAP_UPDATE = "map_update"
+MAP_FULL = "map_full"
+MAP_MULTICAST = "map_multicast"
+MAP_DELTA = "map_delta"
+SEQ_TABLE = "seq_table"
+MAP_SYNC = "map_sync"
 STATUS = "status"
 ASSIGN = "assign"
 TARGET = "target"
@@ -29,6 +34,8 @@ class Message:
         tick_sent: the tick at which it was sent (set by the simulator).
         priority: queue priority at the sender under a bandwidth limit (lower first;
             equal priorities keep their order).
+        recipients: for a broadcast, restrict it to these robots (a multicast);
+            ``None`` = the whole sub-network.
     """
 
     type: str
@@ -38,6 +45,7 @@ class Message:
     payload: Any = field(default=None, compare=False)
     tick_sent: int = -1
     priority: int = 0
+    recipients: frozenset[int] | None = field(default=None, compare=False)
 
     @property
     def is_broadcast(self) -> bool:

@@ -190,6 +190,8 @@ class Network(CommModel):
         group = self._group_of.get(sender, frozenset({sender}))
         if message.is_broadcast:
             destinations = group - {sender}
+            if message.recipients is not None:
+                destinations &= message.recipients
         elif message.dest in group and message.dest != sender:
             destinations = frozenset({message.dest})
         else:

@@ -20,7 +20,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, cell_updates_size
-from mrexplore.comm.messages import MAP_UPDATE, Message
+from mrexplore.comm.messages import MAP_FULL, MAP_MULTICAST, MAP_UPDATE, Message
 from mrexplore.errors import ScenarioError, UnknownIdError
 from mrexplore.grid.occupancy import UNKNOWN, BeliefGrid
 
@@ -65,6 +65,12 @@ class MapSharing(ABC):
         """Called once before the run with the team size and the grid shape."""
         self.n_robots = n_robots
         self.shape = shape
+        self.outbox: list[Message] = []
+
+    def drain(self) -> list[Message]:
+        """Messages the mechanism decided to send while receiving (e.g. a multicast)."""
+        out, self.outbox = self.outbox, []
+        return out
 
     @abstractmethod
     def on_observe(
@@ -81,6 +87,16 @@ class MapSharing(ABC):
         """Messages to send when the links are known for ``tick`` (default: none)."""
         return []
 
+    def on_topology(
+        self,
+        tick: int,
+        subnetworks: list[frozenset[int]],
+        links: frozenset[tuple[int, int]],
+        beliefs: Sequence[BeliefGrid],
+    ) -> list[Message]:
+        """Like :meth:`on_tick`, with the direct links too; the simulator calls this one."""
+        return self.on_tick(tick, subnetworks, beliefs)
+
     @abstractmethod
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
         """Merge ``message`` into ``belief``; return how many cells became known."""
@@ -92,6 +108,25 @@ class MapSharing(ABC):
     def metrics(self) -> dict[str, Any]:
         """Mechanism-specific metrics for ``result.json`` (default: none)."""
         return {}
+
+
+def known_cells(belief: BeliefGrid) -> CellUpdates:
+    """Every cell ``belief`` knows, as cell updates (raster order)."""
+    rows, cols = np.nonzero(belief != UNKNOWN)
+    return CellUpdates(rows.astype(np.int64), cols.astype(np.int64), belief[rows, cols].copy())
+
+
+def merge_many(belief: BeliefGrid, payloads: Sequence[CellUpdates]) -> int:
+    """Merge several updates at once into the unknown cells; count each new cell once."""
+    if len(payloads) == 1:
+        return merge_unknown(belief, payloads[0])
+    rows = np.concatenate([p.rows for p in payloads])
+    cols = np.concatenate([p.cols for p in payloads])
+    values = np.concatenate([p.values for p in payloads])
+    unknown = belief[rows, cols] == UNKNOWN
+    rows, cols = rows[unknown], cols[unknown]
+    belief[rows, cols] = values[unknown]
+    return int(np.unique(rows * belief.shape[1] + cols).size)
 
 
 def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
@@ -107,11 +142,89 @@ def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
     return n_new
 
 
+def joining_links(
+    previous: list[frozenset[int]], links: frozenset[tuple[int, int]]
+) -> list[tuple[int, int, frozenset[int], frozenset[int]]]:
+    """The new links that join sub-networks which were apart at the previous tick.
+
+    One link per pair of old sub-networks joined (the lowest ``(a, b)``), with the
+    old sub-networks of ``a`` and ``b``. Robots that were in no old sub-network
+    (tick 0) count as alone.
+
+    >>> joining_links([frozenset({0, 1}), frozenset({2})], frozenset({(0, 1), (1, 2)}))
+    [(1, 2, frozenset({0, 1}), frozenset({2}))]
+    """
+    old_group = {robot: group for group in previous for robot in group}
+    parent: dict[frozenset[int], frozenset[int]] = {}
+
+    def root(group: frozenset[int]) -> frozenset[int]:
+        while parent.get(group, group) != group:
+            group = parent[group]
+        return group
+
+    joins = []
+    for a, b in sorted(links):
+        group_a = old_group.get(a, frozenset({a}))
+        group_b = old_group.get(b, frozenset({b}))
+        root_a, root_b = root(group_a), root(group_b)
+        if root_a != root_b:
+            parent[root_b] = root_a
+            joins.append((a, b, group_a, group_b))
+    return joins
+
+
 class FullSharing(MapSharing):
-    """Broadcast every new observation to the sub-network."""
+    """Broadcast every new observation; on a merge exchange whole explored maps.
+
+    Sheng et al. §4's brute-force solution ("without tracking"): when a new link
+    joins two sub-networks, its two robots send each other every cell they know
+    (``map_full``, 5 bytes a cell), and each multicasts what it received to the
+    rest of its old sub-network (``map_multicast``).
+    """
 
     id = "full"
-    message_types = frozenset({MAP_UPDATE})
+    message_types = frozenset({MAP_UPDATE, MAP_FULL, MAP_MULTICAST})
+
+    def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
+        super().bind(n_robots, shape)
+        self.previous: list[frozenset[int]] = []
+        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
+
+    def on_topology(
+        self,
+        tick: int,
+        subnetworks: list[frozenset[int]],
+        links: frozenset[tuple[int, int]],
+        beliefs: Sequence[BeliefGrid],
+    ) -> list[Message]:
+        messages: list[Message] = []
+        if self.previous:
+            for a, b, group_a, group_b in joining_links(self.previous, links):
+                for me, peer, my_group in ((a, b, group_a), (b, a, group_b)):
+                    self.old_group[(me, peer)] = my_group
+                    known = known_cells(beliefs[me])
+                    size = cell_updates_size(int(known.rows.size))
+                    messages.append(Message(MAP_FULL, me, peer, size, known, tick))
+        self.previous = subnetworks
+        return messages
+
+    def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
+        updates = [m.payload for m in messages if m.type != MAP_FULL]
+        new = merge_many(belief, updates) if updates else 0
+        for message in messages:
+            if message.type != MAP_FULL:
+                continue
+            payload = message.payload
+            assert isinstance(payload, CellUpdates)
+            new += merge_unknown(belief, payload)
+            group = self.old_group.pop((robot, message.sender), frozenset())
+            others = group - {robot}
+            if others:
+                size = cell_updates_size(int(payload.rows.size))
+                self.outbox.append(
+                    Message(MAP_MULTICAST, robot, BROADCAST, size, payload, recipients=others)
+                )
+        return new
 
     def on_observe(
         self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
@@ -127,24 +240,6 @@ class FullSharing(MapSharing):
         payload = message.payload
         assert isinstance(payload, CellUpdates)
         return merge_unknown(belief, payload)
-
-    def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
-        # One merge for the whole tick: observations never disagree (cells only go
-        # from unknown to their true state), so the order does not matter.
-        payloads = [m.payload for m in messages]
-        if len(payloads) == 1:
-            return merge_unknown(belief, payloads[0])
-        merged = CellUpdates(
-            np.concatenate([p.rows for p in payloads]),
-            np.concatenate([p.cols for p in payloads]),
-            np.concatenate([p.values for p in payloads]),
-        )
-        current = belief[merged.rows, merged.cols]
-        unknown = current == UNKNOWN
-        rows, cols = merged.rows[unknown], merged.cols[unknown]
-        belief[rows, cols] = merged.values[unknown]
-        # A cell may arrive from several robots at once: count it once.
-        return int(np.unique(rows * belief.shape[1] + cols).size)
 
 
 class NoSharing(MapSharing):
@@ -162,6 +257,7 @@ class NoSharing(MapSharing):
 
 
 SHARING: dict[str, Callable[..., MapSharing]] = {"full": FullSharing, "none": NoSharing}
+"""Registry of sharing mechanisms; ``mrexplore.comm`` adds the ones in their own modules."""
 
 
 def make_sharing(name: str, **params: Any) -> MapSharing:

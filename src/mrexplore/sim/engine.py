@@ -168,7 +168,8 @@ class Simulation:
         """Let the communication model see where the robots are; let sharing react."""
         self.comm.update(tick, {r.id: r.position for r in self.robots}, self._alive())
         beliefs = [r.belief for r in self.robots]
-        for message in self.sharing.on_tick(tick, self.comm.subnetworks(), beliefs):
+        subnetworks = self.comm.subnetworks()
+        for message in self.sharing.on_topology(tick, subnetworks, self.comm.links(), beliefs):
             self._send(message, tick)
 
     def _deliver(self, tick: int) -> None:
@@ -180,6 +181,8 @@ class Simulation:
             if map_messages:
                 robot.new_cells += self.sharing.on_receive_all(robot_id, robot.belief, map_messages)
             robot.inbox.extend(m for m in messages if m.type not in self.sharing.message_types)
+        for message in self.sharing.drain():
+            self._send(dataclasses.replace(message, tick_sent=tick), tick)
 
     def _decide(self, tick: int) -> None:
         for robot in self.robots:

@@ -1,0 +1,180 @@
+"""``sheng-sync``: Sheng et al. (2006) §4, map synchronisation "with tracking".
+
+W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area
+exploration", Robotics and Autonomous Systems 54 (2006), §4
+(``../shared/papers/sheng2006-distributed-bidding.txt``).
+
+Each robot R_i keeps
+
+* a **raw map table** (Table 1) indexed by discoverer p and sequence number q:
+  ``table[p][q] = ΔM_pq``, the cells robot p discovered at its q-th sensing;
+* a **last-sequence-number table** (Table 2): ``last[p]``, the largest q such that
+  R_i holds ΔM_p1 .. ΔM_pq.
+
+While connected, every robot broadcasts each new ΔM_pq to its sub-network
+(``map_delta``). When a new link joins R_i's and R_j's sub-networks, the two run
+the 10-step algorithm of §4.2:
+
+(1-3) if R_j was not already in R_i's sub-network (we detect this from the
+      previous tick's sub-networks: one link per pair of joined sub-networks);
+(4-5) R_i and R_j send each other their last-sequence-number tables (``seq_table``);
+(6-7) each computes eq. (3) ``ΔM_{i→j} = ∪_p ΔM_p(j_p, i_p]`` (eq. (4) on R_j's side)
+      and sends it (``map_sync``);
+(8-9) on receipt, each stores the deltas and updates its table to Table 3
+      (``max(i_p, j_p)``);
+(10)  each multicasts the deltas it received to the rest of its old sub-network
+      (``map_multicast``).
+
+Byte layout (header 7 bytes, see :mod:`mrexplore.comm.bytes`): a delta is
+``discoverer uint16, seq uint32`` (6 bytes) plus 5 bytes a cell; ``map_delta``,
+``map_sync`` and ``map_multicast`` carry one or more deltas; ``seq_table`` carries
+one 6-byte entry (robot uint16, seq uint32) per robot of the team.
+
+Interpretations: a ΔM_pq holds only the cells that were new to R_p when it
+sensed them (cells it already knew from others are not re-announced); a robot
+that receives a delta out of order stores it but advances ``last[p]`` only over a
+contiguous run; if the link breaks during steps 4-10 the missing messages are
+counted as lost and the next merge repairs the tables.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.bytes import (
+    BROADCAST,
+    CELL_UPDATE_BYTES,
+    HEADER_BYTES,
+    SEQUENCE_ENTRY_BYTES,
+)
+from mrexplore.comm.messages import MAP_DELTA, MAP_MULTICAST, MAP_SYNC, SEQ_TABLE, Message
+from mrexplore.comm.sharing import (
+    CellUpdates,
+    MapSharing,
+    Observation,
+    joining_links,
+    merge_many,
+)
+from mrexplore.grid.occupancy import BeliefGrid
+
+DELTA_HEADER_BYTES = SEQUENCE_ENTRY_BYTES  # discoverer uint16 + seq uint32
+
+
+@dataclass(frozen=True, slots=True)
+class Delta:
+    """ΔM_pq: the cells robot ``p`` discovered at its ``q``-th sensing."""
+
+    discoverer: int
+    seq: int
+    cells: CellUpdates
+
+    @property
+    def size_bytes(self) -> int:
+        return DELTA_HEADER_BYTES + CELL_UPDATE_BYTES * int(self.cells.rows.size)
+
+
+def deltas_size(deltas: Sequence[Delta]) -> int:
+    """Bytes of a message carrying ``deltas``."""
+    return HEADER_BYTES + sum(d.size_bytes for d in deltas)
+
+
+class ShengSync(MapSharing):
+    """Sequence-numbered raw map tables and the §4.2 synchronisation on merges."""
+
+    id = "sheng-sync"
+    message_types = frozenset({MAP_DELTA, SEQ_TABLE, MAP_SYNC, MAP_MULTICAST})
+
+    def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
+        super().bind(n_robots, shape)
+        # table[i][p][q] = ΔM_pq as held by robot i.
+        self.table: list[list[dict[int, Delta]]] = [
+            [{} for _ in range(n_robots)] for _ in range(n_robots)
+        ]
+        self.last: npt.NDArray[np.int64] = np.zeros((n_robots, n_robots), dtype=np.int64)
+        self.previous: list[frozenset[int]] = []
+        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
+
+    # ------------------------------------------------------------ tables
+    def _store(self, robot: int, delta: Delta) -> bool:
+        """Put ``delta`` into ``robot``'s raw map table; False if it was there already."""
+        column = self.table[robot][delta.discoverer]
+        if delta.seq in column:
+            return False
+        column[delta.seq] = delta
+        last = self.last[robot]
+        while int(last[delta.discoverer]) + 1 in column:
+            last[delta.discoverer] += 1
+        return True
+
+    def missing_for(self, robot: int, their_last: npt.NDArray[np.int64]) -> list[Delta]:
+        """Eq. (3): ΔM_{i→j} = ∪_p ΔM_p(j_p, i_p] from robot i's table."""
+        out: list[Delta] = []
+        mine = self.last[robot]
+        for p in range(self.n_robots):
+            column = self.table[robot][p]
+            out.extend(column[q] for q in range(int(their_last[p]) + 1, int(mine[p]) + 1))
+        return out
+
+    # ------------------------------------------------------------ events
+    def on_observe(
+        self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
+    ) -> list[Message]:
+        new = observation.was_unknown
+        if not new.any():
+            return []
+        seq = int(self.last[robot, robot]) + 1
+        cells = CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
+        delta = Delta(robot, seq, cells)
+        self._store(robot, delta)
+        return [Message(MAP_DELTA, robot, BROADCAST, deltas_size([delta]), (delta,), tick)]
+
+    def on_topology(
+        self,
+        tick: int,
+        subnetworks: list[frozenset[int]],
+        links: frozenset[tuple[int, int]],
+        beliefs: Sequence[BeliefGrid],
+    ) -> list[Message]:
+        messages: list[Message] = []
+        if self.previous:
+            for a, b, group_a, group_b in joining_links(self.previous, links):
+                for me, peer, my_group in ((a, b, group_a), (b, a, group_b)):
+                    self.old_group[(me, peer)] = my_group  # step 10's recipients
+                    size = HEADER_BYTES + SEQUENCE_ENTRY_BYTES * self.n_robots
+                    table = self.last[me].copy()
+                    messages.append(Message(SEQ_TABLE, me, peer, size, table, tick))  # step 4
+        self.previous = subnetworks
+        return messages
+
+    def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
+        return self.on_receive_all(robot, belief, [message])
+
+    def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
+        fresh: list[CellUpdates] = []
+        for message in messages:
+            if message.type == SEQ_TABLE:  # steps 5-7
+                missing = self.missing_for(robot, message.payload)
+                self.outbox.append(
+                    Message(MAP_SYNC, robot, message.sender, deltas_size(missing), tuple(missing))
+                )
+                continue
+            stored = [d for d in message.payload if self._store(robot, d)]  # steps 8-9
+            fresh.extend(d.cells for d in stored)
+            if message.type == MAP_SYNC:  # step 10
+                others = self.old_group.pop((robot, message.sender), frozenset()) - {robot}
+                if others and message.payload:
+                    self.outbox.append(
+                        Message(
+                            MAP_MULTICAST,
+                            robot,
+                            BROADCAST,
+                            message.size_bytes,
+                            message.payload,
+                            recipients=others,
+                        )
+                    )
+        return merge_many(belief, fresh) if fresh else 0

@@ -1,0 +1,79 @@
+"""Map sharing: full and sheng-sync agree after a merge; sheng-sync sends less."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mrexplore.comm import make_network, make_sharing
+from mrexplore.comm.sharing import Observation
+from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, new_belief
+from mrexplore.sim import Scenario, simulate
+
+
+def exchange(name: str, seed: int = 0) -> tuple[list[np.ndarray], int]:
+    """Two pairs of robots explore apart for 10 ticks, then meet; return beliefs and bytes."""
+    shape = (24, 24)
+    rng = np.random.default_rng(seed)
+    truth = np.where(rng.random(shape) < 0.3, OCCUPIED, FREE).astype(np.int8)
+    sharing = make_sharing(name)
+    sharing.bind(4, shape)
+    network = make_network(4, comm_range=5.0)
+    beliefs = [new_belief(shape) for _ in range(4)]
+    positions = {0: (1, 1), 1: (1, 4), 2: (20, 20), 3: (20, 17)}
+    alive = frozenset(range(4))
+    for tick in range(40):
+        if tick == 12:
+            positions = {0: (1, 1), 1: (1, 4), 2: (1, 8), 3: (1, 11)}
+        network.update(tick, positions, alive)
+        for message in sharing.on_topology(tick, network.subnetworks(), network.links(), beliefs):
+            network.send(message, tick)
+        for robot, inbox in network.deliver(tick).items():
+            sharing.on_receive_all(robot, beliefs[robot], inbox)
+        for message in sharing.drain():
+            network.send(message, tick)
+        if tick < 10:
+            for robot in range(4):
+                flat = rng.choice(shape[0] * shape[1], size=12, replace=False)
+                rows, cols = np.divmod(flat, shape[1])
+                own_new = beliefs[robot][rows, cols] == UNKNOWN
+                values = truth[rows, cols]
+                beliefs[robot][rows, cols] = values
+                observation = Observation(rows, cols, values, own_new)
+                for message in sharing.on_observe(robot, tick, observation, beliefs[robot]):
+                    network.send(message, tick)
+        network.flush(tick)
+    assert network.in_flight() == 0
+    return beliefs, network.ledger.total
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_full_and_sheng_sync_give_identical_beliefs_after_a_merge(seed: int) -> None:
+    full, _ = exchange("full", seed)
+    sheng, _ = exchange("sheng-sync", seed)
+    for belief in full[1:] + sheng:
+        assert np.array_equal(belief, full[0])
+    assert (full[0] != UNKNOWN).sum() > 100
+
+
+def test_sheng_sync_sends_fewer_map_bytes_on_the_table_4_scenario() -> None:
+    """Quick form of Sheng Table 4 (5 robots, 40 x 40, r_s = 4, r_c = 16, sense on arrival)."""
+
+    def map_bytes(sharing: str, seed: int) -> int:
+        record = simulate(
+            Scenario(
+                map="sheng40",
+                robots=5,
+                seed=seed,
+                sensor_range=4,
+                comm_range=16,
+                sensing="arrival",
+                start="separate",
+                sharing=sharing,
+            )
+        )
+        assert record.status == "complete"
+        return sum(record.bytes_by_type.values())
+
+    for seed in range(3):
+        assert map_bytes("sheng-sync", seed) < 0.7 * map_bytes("full", seed)
