@@ -103,6 +103,27 @@ def test_two_cli_runs_give_identical_traces(tmp_path: Path) -> None:
             assert np.array_equal(a[name], b[name]), name
 
 
+def test_help_documents_every_option() -> None:
+    import argparse
+    import re
+
+    from mrexplore.cli import build_parser
+
+    done = mrexplore("run", "--help")
+    assert done.returncode == 0
+    parser = build_parser()
+    run_parser = next(
+        action
+        for action in parser._actions
+        if isinstance(action, __import__("argparse")._SubParsersAction)
+    ).choices["run"]
+    for action in run_parser._actions:
+        if action.option_strings and action.dest != "help":
+            assert action.help, f"{action.option_strings} has no help"
+            assert any(opt in done.stdout for opt in action.option_strings)
+    assert re.search(r"--comm-range", done.stdout)
+
+
 def test_listings() -> None:
     strategies = mrexplore("strategies")
     assert strategies.returncode == 0
@@ -144,6 +165,15 @@ BAD_INPUTS = {
     "out is a file": (["--map", "sheng40", "--out", "{tmp}/ok.pgm"], "--out"),
     "zero speed": (["--map", "sheng40", "--speed", "0"], "--speed"),
     "unknown sharing": (["--map", "sheng40", "--sharing", "psychic"], "psychic"),
+    "negative comm range": (["--map", "sheng40", "--comm-range", "-5"], "--comm-range"),
+    "loss above 1": (["--map", "sheng40", "--loss", "1.5"], "--loss"),
+    "bad failure": (["--map", "sheng40", "--fail", "x@y"], "--fail"),
+    "failure of a missing robot": (
+        ["--map", "sheng40", "--robots", "2", "--fail", "7@5"],
+        "--fail",
+    ),
+    "bad comm key": (["--map", "sheng40", "--comm", "colour=red"], "--comm"),
+    "bad share key": (["--map", "sheng40", "--share", "colour=red"], "--share"),
 }
 
 

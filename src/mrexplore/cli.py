@@ -62,7 +62,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--cell-size", type=_float("--cell-size"), help="resample a file map to metres per cell"
     )
-    run.add_argument("--robots", type=_positive_int("--robots"), default=4)
+    run.add_argument(
+        "--robots", type=_positive_int("--robots"), default=4, help="team size (default: 4)"
+    )
     run.add_argument("--strategy", default="nearest-frontier", help="see `mrexplore strategies`")
     run.add_argument(
         "--set",
@@ -74,14 +76,21 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--sensor-range", default="8", help="cells, or metres with 'm' (2.5m)")
     run.add_argument("--speed", type=_float("--speed"), default=1.0, help="cells per tick")
-    run.add_argument("--seed", type=int, default=0)
+    run.add_argument(
+        "--seed", type=int, default=0, help="master seed of every random choice (default: 0)"
+    )
     run.add_argument(
         "--max-ticks",
         type=_positive_int("--max-ticks"),
         help="limit on the run (default: 20 x explorable cells / speed)",
     )
     run.add_argument("--start", default="together", help="together | separate | 'R,C;R,C;...'")
-    run.add_argument("--sensing", default="moving", choices=["moving", "arrival"])
+    run.add_argument(
+        "--sensing",
+        default="moving",
+        choices=["moving", "arrival"],
+        help="sense every tick, or only when not travelling (Sheng §2.1)",
+    )
     comm = run.add_argument_group("communication (DESIGN §4)")
     comm.add_argument(
         "--comm-range", help="communication range: cells, or metres with 'm' (default: inf)"
@@ -128,10 +137,29 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="KEY=VALUE",
         help="parameter of the sharing mechanism, e.g. split_rate=1 (repeatable)",
     )
-    run.add_argument("--coverage-threshold", type=_float("--coverage-threshold"), default=0.99)
-    run.add_argument("--stall-ticks", type=_positive_int("--stall-ticks"))
-    run.add_argument("--idle-ticks", type=_positive_int("--idle-ticks"), default=10)
-    run.add_argument("--patience", type=_positive_int("--patience"), default=3)
+    run.add_argument(
+        "--coverage-threshold",
+        type=_float("--coverage-threshold"),
+        default=0.99,
+        help="share of explorable cells that completes the run (default: 0.99)",
+    )
+    run.add_argument(
+        "--stall-ticks",
+        type=_positive_int("--stall-ticks"),
+        help="ticks without new knowledge that end the run as stalled",
+    )
+    run.add_argument(
+        "--idle-ticks",
+        type=_positive_int("--idle-ticks"),
+        default=10,
+        help="ticks with every robot idle and no message in flight that end the run",
+    )
+    run.add_argument(
+        "--patience",
+        type=_positive_int("--patience"),
+        default=3,
+        help="ticks a robot waits behind another before it detours",
+    )
     run.add_argument("--out", help="output folder (result.json, trace.npz, final.png)")
     run.add_argument("--gif", action="store_true", help="also write run.gif")
     run.add_argument("--json", action="store_true", help="print result.json instead of a table")
