@@ -113,9 +113,7 @@ def test_help_documents_every_option() -> None:
     assert done.returncode == 0
     parser = build_parser()
     run_parser = next(
-        action
-        for action in parser._actions
-        if isinstance(action, __import__("argparse")._SubParsersAction)
+        action for action in parser._actions if isinstance(action, argparse._SubParsersAction)
     ).choices["run"]
     for action in run_parser._actions:
         if action.option_strings and action.dest != "help":
