@@ -20,6 +20,7 @@ coverage          T+1 float64         known_explorable / explorable cells
 bytes_per_tick    T+1 int64           bytes sent at each tick
 bytes_by_robot    N int64             bytes sent by each robot
 subnetworks       T+1 int64           number of sub-networks at each tick
+group_diameter    T+1 float64         largest distance between two robots (cells)
 sensor_range      () float64          sensor radius in cells
 speed             () float64          cells of path per tick
 ================  ==================  ==============================================
@@ -36,7 +37,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore import __version__
-from mrexplore.metrics import json_safe, summarize
+from mrexplore.metrics import group_diameter, json_safe, summarize
 from mrexplore.sim.scenario import Scenario
 from mrexplore.sim.world import World
 
@@ -95,6 +96,7 @@ class RunRecord:
             "bytes_per_tick": self.bytes_per_tick,
             "bytes_by_robot": self.bytes_by_robot,
             "subnetworks": self.subnetworks,
+            "group_diameter": group_diameter(self.positions),
             "sensor_range": np.array(self.world.sensor_range_cells, dtype=np.float64),
             "speed": np.array(self.scenario.speed, dtype=np.float64),
         }
