@@ -85,7 +85,7 @@ def trace_contours_kernel(
             # 3.1: clockwise from the background neighbour, the first foreground pixel.
             first_dir = -1
             for k in range(8):
-                d = (from_dir - k) % 8
+                d = (from_dir - k) & 7
                 if labels[start + deltas[d]] != 0:
                     first_dir = d
                     break
@@ -93,7 +93,7 @@ def trace_contours_kernel(
                 labels[start] = -nbd
                 if n_points >= capacity:
                     return -1
-                points[n_points] = (r - 1) * width + (c - 1)
+                points[n_points] = start
                 n_points += 1
             else:
                 first = start + deltas[first_dir]
@@ -102,9 +102,9 @@ def trace_contours_kernel(
                 while True:
                     # 3.3: counter-clockwise from the previous pixel, the next one.
                     step = back_dir + 1
-                    while labels[current + deltas[step % 8]] == 0:
+                    while labels[current + deltas[step & 7]] == 0:
                         step += 1
-                    found = step % 8
+                    found = step & 7
                     # 3.4: the east neighbour was examined and is background.
                     if step > 8:
                         labels[current] = -nbd
@@ -112,18 +112,19 @@ def trace_contours_kernel(
                         labels[current] = nbd
                     if n_points >= capacity:
                         return -1
-                    points[n_points] = (current // padded_width - 1) * width + (
-                        current % padded_width - 1
-                    )
+                    points[n_points] = current  # padded index, converted below
                     n_points += 1
                     following = current + deltas[found]
                     if following == start and current == first:
                         break
                     current = following
-                    back_dir = (found + 4) % 8
+                    back_dir = (found + 4) & 7
             holes[n_contours] = hole
             n_contours += 1
             offsets[n_contours] = n_points
+    for g in range(n_points):
+        padded = points[g]
+        points[g] = (padded // padded_width - 1) * width + padded % padded_width - 1
     for k in range(n_contours):
         h = _HASH_SEED ^ np.uint64(1 if holes[k] else 0)
         for g in range(offsets[k], offsets[k + 1]):

@@ -185,9 +185,11 @@ class Simulation:
             self._send(dataclasses.replace(message, tick_sent=tick), tick)
 
     def _decide(self, tick: int) -> None:
+        all_links = self.comm.links()
         for robot in self.robots:
             if not robot.alive:
                 continue
+            subnetwork = self.comm.subnetwork_of(robot.id)
             belief_view = robot.belief.view()
             belief_view.flags.writeable = False
             view = RobotView(
@@ -201,7 +203,9 @@ class Simulation:
                 arrived=robot.arrived,
                 blocked=robot.blocked,
                 inbox=tuple(robot.inbox),
-                subnetwork=self.comm.subnetwork_of(robot.id),
+                subnetwork=subnetwork,
+                links=frozenset(link for link in all_links if link[0] in subnetwork),
+                comm_latency=self.scenario.latency,
                 sensor_range=self.world.sensor_range_cells,
                 speed=self.scenario.speed,
                 rng=self.streams.robots[robot.id],

@@ -82,7 +82,10 @@ class RobotView:
     """Everything a strategy may know about its robot at one tick.
 
     ``belief`` is the robot's own map, read-only. ``subnetwork`` holds the ids of
-    the live robots it can currently reach (itself included).
+    the live robots it can currently reach (itself included) and ``links`` the
+    direct links ``(a, b)``, ``a < b``, among them: every robot knows the topology
+    of its own sub-network. ``comm_latency`` is the ticks a message takes per hop.
+    ``rng`` is the robot's own random stream.
     """
 
     robot_id: int
@@ -100,6 +103,8 @@ class RobotView:
     speed: float
     rng: np.random.Generator
     new_cells: int
+    links: frozenset[tuple[int, int]] = frozenset()
+    comm_latency: int = 1
 
 
 @dataclass

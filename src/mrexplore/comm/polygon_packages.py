@@ -1,0 +1,349 @@
+"""Packages of the polygon map-sharing mechanism: payloads, byte layout, replay.
+
+Meier, Stachniss & Burgard (2005) §3 and §5.3 name the packages; this module
+defines what each carries on the wire and how a receiver applies it to its copy
+of a sender's polygon map (:class:`PolygonMap`). The sender builds its packages
+so that applying them, in sequence-number order, to the map it had before
+reproduces the map it has now.
+
+Byte layout (little-endian; every message also carries the 7-byte header of
+:mod:`mrexplore.comm.bytes`). A *point* is ``x int32, y int32, id uint32``
+(:data:`~mrexplore.comm.bytes.POLYGON_POINT_BYTES` = 12; ``x`` = column, ``y`` =
+row of a cell centre). A *polygon record* is ``polygon id uint32, layer uint8,
+n_points uint16`` (7 bytes) followed by its points in order.
+
+======  ==============================================================  ====================
+type    payload                                                         bytes (after header)
+======  ==============================================================  ====================
+``VP``  seq uint32, n uint16, n x point id uint32                       6 + 4 n
+``ES``  seq uint32, n uint16, n x (after-id uint32, point)              6 + 16 n
+``B``   seq uint32, flags uint8, n uint16, n x polygon record           7 + sum(7 + 12 m_i)
+``EP``  seq uint32, n uint16, n x polygon record                        6 + sum(7 + 12 m_i)
+======  ==============================================================  ====================
+
+``flags`` bit 0 marks a full resync. The extra field sizes below
+(``SEQ_BYTES`` ... ``LAYER_BYTES``) are the only place they are defined.
+
+``TPT`` (target point transmission) is the paper's fifth package type; it
+carries a robot's chosen target and belongs to the coordination strategy, not
+to map sharing (see :data:`TPT`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.bytes import HEADER_BYTES, POLYGON_POINT_BYTES
+from mrexplore.errors import MrexploreError
+
+IntArray = npt.NDArray[np.int64]
+
+# Package types (message ``type`` strings), named as in Meier et al. §5.3.
+TPT = "TPT"
+"""Target point transmission: a robot's chosen target (sent by a coordination strategy)."""
+ES = "ES"
+"""Edge split: new vertices inserted into existing edges."""
+B = "B"
+"""Broken boundary: polygons re-defined from surviving vertices (split, merge), or a resync."""
+VP = "VP"
+"""Vanished points: vertices removed from the approximation."""
+EP = "EP"
+"""Emerged points: polygons of newly appeared boundaries."""
+
+PAPER_PACKAGE_TYPES = frozenset({TPT, ES, B, VP, EP})
+"""All five package types of the paper's Table 1."""
+MAP_PACKAGE_TYPES = frozenset({ES, B, VP, EP})
+"""The four that carry the polygon map (what :class:`PolygonSharing` sends)."""
+
+# Field sizes in bytes: the single definition of every field beyond the point.
+SEQ_BYTES = 4
+"""Per-sender sequence number, uint32, first field of every package."""
+COUNT_BYTES = 2
+"""Number of items that follow (ids, splits, polygons, points), uint16."""
+FLAGS_BYTES = 1
+"""``B`` flags, uint8; bit 0 = full resync."""
+POINT_ID_BYTES = 4
+"""A vertex id alone, uint32 (``VP`` entries, the ``after`` field of ``ES``)."""
+POLYGON_ID_BYTES = 4
+"""Polygon id, uint32."""
+LAYER_BYTES = 1
+"""Layer of a polygon, uint8: 0 = observed area, 1 = obstacles."""
+POLYGON_RECORD_HEADER_BYTES = POLYGON_ID_BYTES + LAYER_BYTES + COUNT_BYTES
+"""Bytes of a polygon record before its points (7)."""
+MAX_COUNT = 2 ** (8 * COUNT_BYTES) - 1
+"""Largest count a uint16 field holds (65535)."""
+
+FULL_RESYNC = 1
+"""``B`` flag bit: discard everything held from this sender first."""
+
+OBSERVED_LAYER = 0
+"""Layer of the polygons bounding the area the sender observed (free or occupied)."""
+OBSTACLE_LAYER = 1
+"""Layer of the polygons bounding the occupied cells the sender observed."""
+
+
+class PolygonLimitError(MrexploreError):
+    """A package would need a count beyond its uint16 field."""
+
+
+@dataclass(frozen=True, slots=True)
+class PolygonRecord:
+    """One polygon on the wire: id, layer and its points in order.
+
+    ``points`` is an ``n x 3`` int64 array of ``(x, y, id)`` rows.
+    """
+
+    polygon_id: int
+    layer: int
+    points: IntArray
+
+
+@dataclass(frozen=True, slots=True)
+class VanishedPoints:
+    """``VP`` payload: ids of vertices that left the approximation."""
+
+    seq: int
+    point_ids: IntArray
+
+
+@dataclass(frozen=True, slots=True)
+class EdgeSplits:
+    """``ES`` payload: ``points[i]`` (x, y, id) goes right after vertex ``after_ids[i]``."""
+
+    seq: int
+    after_ids: IntArray
+    points: IntArray
+
+
+@dataclass(frozen=True, slots=True)
+class BrokenBoundary:
+    """``B`` payload: polygons (re)defined in full; ``full`` = a resync of everything."""
+
+    seq: int
+    full: bool
+    polygons: tuple[PolygonRecord, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class EmergedPoints:
+    """``EP`` payload: polygons of boundaries that appeared."""
+
+    seq: int
+    polygons: tuple[PolygonRecord, ...]
+
+
+Payload = VanishedPoints | EdgeSplits | BrokenBoundary | EmergedPoints
+
+
+def _check_count(n: int, what: str) -> None:
+    if n > MAX_COUNT:
+        raise PolygonLimitError(
+            f"a polygon package would carry {n} {what}; the uint16 count field holds "
+            f"{MAX_COUNT} (use a larger epsilon or a smaller map)"
+        )
+
+
+def _records_bytes(polygons: tuple[PolygonRecord, ...]) -> int:
+    _check_count(len(polygons), "polygons")
+    total = 0
+    for record in polygons:
+        n = int(record.points.shape[0])
+        _check_count(n, "points in one polygon")
+        total += POLYGON_RECORD_HEADER_BYTES + POLYGON_POINT_BYTES * n
+    return total
+
+
+def vanished_points_size(n_points: int) -> int:
+    """Bytes of a ``VP`` message removing ``n_points`` vertices.
+
+    >>> vanished_points_size(3)
+    25
+    """
+    _check_count(n_points, "vanished points")
+    return HEADER_BYTES + SEQ_BYTES + COUNT_BYTES + POINT_ID_BYTES * n_points
+
+
+def edge_splits_size(n_splits: int) -> int:
+    """Bytes of an ``ES`` message with ``n_splits`` new vertices.
+
+    >>> edge_splits_size(1)
+    29
+    """
+    _check_count(n_splits, "edge splits")
+    return (
+        HEADER_BYTES + SEQ_BYTES + COUNT_BYTES + (POINT_ID_BYTES + POLYGON_POINT_BYTES) * n_splits
+    )
+
+
+def broken_boundary_size(polygons: tuple[PolygonRecord, ...]) -> int:
+    """Bytes of a ``B`` message carrying ``polygons``.
+
+    >>> import numpy as np
+    >>> broken_boundary_size((PolygonRecord(1, 0, np.zeros((2, 3), dtype=np.int64)),))
+    45
+    """
+    return HEADER_BYTES + SEQ_BYTES + FLAGS_BYTES + COUNT_BYTES + _records_bytes(polygons)
+
+
+def emerged_points_size(polygons: tuple[PolygonRecord, ...]) -> int:
+    """Bytes of an ``EP`` message carrying ``polygons``.
+
+    >>> import numpy as np
+    >>> emerged_points_size((PolygonRecord(1, 1, np.zeros((1, 3), dtype=np.int64)),))
+    32
+    """
+    return HEADER_BYTES + SEQ_BYTES + COUNT_BYTES + _records_bytes(polygons)
+
+
+def payload_size(package_type: str, payload: Payload) -> int:
+    """Bytes on the wire of a package of ``package_type`` with ``payload``."""
+    if package_type == VP:
+        assert isinstance(payload, VanishedPoints)
+        return vanished_points_size(int(payload.point_ids.size))
+    if package_type == ES:
+        assert isinstance(payload, EdgeSplits)
+        return edge_splits_size(int(payload.after_ids.size))
+    if package_type == B:
+        assert isinstance(payload, BrokenBoundary)
+        return broken_boundary_size(payload.polygons)
+    if package_type == EP:
+        assert isinstance(payload, EmergedPoints)
+        return emerged_points_size(payload.polygons)
+    raise ValueError(f"not a polygon map package type: {package_type!r}")
+
+
+@dataclass
+class Polygon:
+    """A polygon as a receiver holds it.
+
+    Attributes:
+        layer: :data:`OBSERVED_LAYER` or :data:`OBSTACLE_LAYER`.
+        ids: vertex ids in order (int64).
+        xy: ``n x 2`` int32 cell centres ``(x, y) = (col, row)``, aligned with ``ids``.
+        bbox: ``(x_min, y_min, x_max, y_max)`` covering every vertex the polygon
+            has had since it was last defined in full (never shrinks until then).
+    """
+
+    layer: int
+    ids: IntArray
+    xy: npt.NDArray[np.int32]
+    bbox: tuple[int, int, int, int] = field(default=(0, 0, -1, -1))
+
+    def __post_init__(self) -> None:
+        if self.ids.size and self.bbox[2] < self.bbox[0]:
+            self.bbox = _bbox_of(self.xy)
+
+
+def _bbox_of(xy: npt.NDArray[np.int32]) -> tuple[int, int, int, int]:
+    lo = xy.min(axis=0)
+    hi = xy.max(axis=0)
+    return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
+
+
+def _union(
+    a: tuple[int, int, int, int] | None, b: tuple[int, int, int, int]
+) -> tuple[int, int, int, int]:
+    if a is None:
+        return b
+    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
+
+
+class PolygonMap:
+    """One sender's polygon map as rebuilt from its packages.
+
+    Applying a package also records, in :attr:`dirty`, a box of cells
+    ``(x_min, y_min, x_max, y_max)`` outside of which the rasterised map did not
+    change (``None`` = nothing changed since :meth:`take_dirty`).
+    """
+
+    def __init__(self) -> None:
+        self.polygons: dict[int, Polygon] = {}
+        self.owner: dict[int, int] = {}
+        self.dirty: tuple[int, int, int, int] | None = None
+
+    def take_dirty(self) -> tuple[int, int, int, int] | None:
+        """The dirty box, which is reset."""
+        box, self.dirty = self.dirty, None
+        return box
+
+    def _mark(self, box: tuple[int, int, int, int]) -> None:
+        self.dirty = _union(self.dirty, box)
+
+    def _neighbourhood(self, polygon: Polygon, position: int) -> tuple[int, int, int, int]:
+        """Box of the vertex at ``position`` and its two neighbours."""
+        n = polygon.ids.size
+        rows = polygon.xy[[(position - 1) % n, position, (position + 1) % n]]
+        return _bbox_of(rows)
+
+    def _remove(self, point_id: int) -> None:
+        polygon_id = self.owner.pop(point_id, None)
+        if polygon_id is None:
+            return
+        polygon = self.polygons[polygon_id]
+        position = int(np.flatnonzero(polygon.ids == point_id)[0])
+        self._mark(self._neighbourhood(polygon, position))
+        if polygon.ids.size == 1:
+            del self.polygons[polygon_id]
+            return
+        polygon.ids = np.delete(polygon.ids, position)
+        polygon.xy = np.delete(polygon.xy, position, axis=0)
+
+    def _define(self, record: PolygonRecord) -> None:
+        old = self.polygons.pop(record.polygon_id, None)
+        if old is not None:
+            self._mark(old.bbox)
+            for point_id in old.ids.tolist():
+                self.owner.pop(point_id, None)
+        points = record.points
+        if points.shape[0] == 0:
+            return
+        ids = points[:, 2].astype(np.int64)
+        for point_id in ids.tolist():
+            if point_id in self.owner:
+                self._remove(point_id)
+        polygon = Polygon(record.layer, ids, points[:, :2].astype(np.int32))
+        self.polygons[record.polygon_id] = polygon
+        for point_id in ids.tolist():
+            self.owner[point_id] = record.polygon_id
+        self._mark(polygon.bbox)
+
+    def apply(self, payload: Payload) -> None:
+        """Apply one package (the caller checks sequence numbers)."""
+        if isinstance(payload, VanishedPoints):
+            for point_id in payload.point_ids.tolist():
+                self._remove(point_id)
+        elif isinstance(payload, EdgeSplits):
+            for after, point in zip(payload.after_ids.tolist(), payload.points, strict=True):
+                self._insert(after, point)
+        elif isinstance(payload, BrokenBoundary):
+            if payload.full:
+                for polygon in self.polygons.values():
+                    self._mark(polygon.bbox)
+                self.polygons.clear()
+                self.owner.clear()
+            for record in payload.polygons:
+                self._define(record)
+        else:
+            for record in payload.polygons:
+                self._define(record)
+
+    def _insert(self, after: int, point: IntArray) -> None:
+        polygon_id = self.owner.get(after)
+        if polygon_id is None:  # cannot happen for a package stream in order
+            return
+        polygon = self.polygons[polygon_id]
+        position = int(np.flatnonzero(polygon.ids == after)[0]) + 1
+        x, y, point_id = int(point[0]), int(point[1]), int(point[2])
+        polygon.ids = np.insert(polygon.ids, position, point_id)
+        polygon.xy = np.insert(polygon.xy, position, np.array([x, y], dtype=np.int32), axis=0)
+        self.owner[point_id] = polygon_id
+        self._mark(self._neighbourhood(polygon, position))
+        b = polygon.bbox
+        polygon.bbox = (min(b[0], x), min(b[1], y), max(b[2], x), max(b[3], y))
+
+    def records(self) -> list[tuple[int, int, IntArray]]:
+        """``(polygon id, layer, ids)`` of every polygon, sorted by id (for comparisons)."""
+        return [(pid, p.layer, p.ids.copy()) for pid, p in sorted(self.polygons.items())]
