@@ -128,7 +128,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="probability per tick that each live robot fails",
     )
     run.add_argument(
-        "--sharing", default="full", help="map sharing: full | sheng-sync | polygon | none"
+        "--sharing",
+        help="map sharing: full | sheng-sync | polygon | none (default: the strategy's, "
+        "full for most)",
     )
     run.add_argument(
         "--share",
@@ -274,7 +276,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     scenario = _scenario_from_args(args)
     scenario.validate()
-    make_sharing(scenario.sharing, **scenario.sharing_params)  # bad id -> input error now
+    if scenario.sharing is not None:
+        make_sharing(scenario.sharing, **scenario.sharing_params)  # bad id -> input error now
     if args.out:
         _check_out_dir(args.out)
     simulation = Simulation(scenario)

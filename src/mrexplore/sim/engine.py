@@ -120,7 +120,8 @@ class Simulation:
         self.failures: dict[int, list[int]] = {}
         for robot_id, fail_tick in scenario.fail:
             self.failures.setdefault(fail_tick, []).append(robot_id)
-        self.sharing: MapSharing = make_sharing(scenario.sharing, **scenario.sharing_params)
+        self.sharing_id = scenario.sharing or get_strategy(scenario.strategy).default_sharing
+        self.sharing: MapSharing = make_sharing(self.sharing_id, **scenario.sharing_params)
         self.sharing.bind(n, shape)
         self.occupant = np.full(shape, -1, dtype=np.int32)
         for robot in self.robots:
@@ -458,6 +459,7 @@ class Simulation:
             hops_by_type=dict(sorted(ledger.hops_by_type.items())),
             queue_delay_mean=float(np.mean(getattr(self.comm, "queue_delays", [0]) or [0])),
             sharing_metrics=self.sharing.metrics(),
+            sharing=self.sharing_id,
             max_ticks=self.max_ticks,
         )
 

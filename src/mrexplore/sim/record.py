@@ -78,6 +78,7 @@ class RunRecord:
     hops_by_type: dict[str, int]
     queue_delay_mean: float
     sharing_metrics: dict[str, Any]
+    sharing: str
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
         """The arrays of ``trace.npz``."""
@@ -108,6 +109,7 @@ class RunRecord:
         out.update(self.scenario.to_dict())
         out["params"] = dict(self.strategy_params)  # defaults included, converted types
         out["max_ticks"] = self.max_ticks  # the limit in force, also when it was automatic
+        out["sharing"] = self.sharing  # the mechanism in force, also when it was the default
         out.update(
             {
                 "status": self.status,

@@ -53,7 +53,8 @@ class Scenario:
         loss: probability that one reception of one hop is lost.
         fail: robots that fail, as ``(robot, tick)`` pairs.
         failure_rate: probability per tick that each live robot fails.
-        sharing: map-sharing mechanism id.
+        sharing: map-sharing mechanism id; ``None`` = the strategy's default (``full``
+            for most, ``polygon`` for ``meier-polygon``).
         sharing_params: parameters of the sharing mechanism (``--share key=value``).
         coverage_threshold: share of explorable cells that completes the run.
         stall_ticks: ticks without any new team knowledge that end the run as
@@ -83,7 +84,7 @@ class Scenario:
     loss: float = 0.0
     fail: list[tuple[int, int]] = field(default_factory=list)
     failure_rate: float = 0.0
-    sharing: str = "full"
+    sharing: str | None = None
     sharing_params: dict[str, Any] = field(default_factory=dict)
     coverage_threshold: float = 0.99
     stall_ticks: int | None = None

@@ -137,6 +137,8 @@ class Strategy(ABC):
     summary: ClassVar[str] = ""
     citation: ClassVar[str] = ""
     params: ClassVar[Mapping[str, Param]] = {}
+    default_sharing: ClassVar[str] = "full"
+    """Map-sharing mechanism used when the scenario does not name one."""
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         self.robot_id = robot_id

@@ -1,0 +1,119 @@
+"""Meier, Stachniss & Burgard: decentralised coordination over polygonal maps.
+
+D. Meier, C. Stachniss, W. Burgard, "Coordinating multiple robots during
+exploration under communication with limited bandwidth", ECMR 2005;
+``../shared/papers/meier-stachniss-burgard-limited-bandwidth.txt`` §4, eq. (1) and
+Algorithm 1. Its default map sharing is ``polygon`` (§3).
+
+Algorithm 1, per robot, whenever it needs a new target:
+
+1. its map = the union of the polygonal maps received from the others, combined
+   with its own observations (done by the ``polygon`` sharing mechanism, which
+   never overwrites cells the robot observed itself);
+2. the potential targets are the frontier cells of that map;
+3. ``U_t = 1`` for every target;
+4-6. for every target t' received from another robot, ``U_t <- U_t - P(||t - t'||)``
+   with ``P(d) = 1 - d / max_range`` for ``d < max_range``, else 0 (eq. 1);
+7. ``t = argmax_t U_t - beta * V_t``, ``V_t`` the cost of reaching t;
+8. broadcast t (a target point transmission, ``TPT``).
+
+Parameters:
+
+=============================  ==========  =======  =====  ======================================
+name                           symbol      default  unit   meaning
+=============================  ==========  =======  =====  ======================================
+``beta``                       beta        1.0      -      weight of cost against utility
+``max_range``                  max_range   0.0      cells  radius of P(d); 0 = sensor range
+``normalize_cost``             -           True     -      scale V to [0, 1] by the largest
+                                                           finite cost (as in ``burgard``)
+``respect_priority``           -           True     -      only targets of robots with a lower
+                                                           id (higher priority) discount
+``replan_*``                   -                           see :data:`REPLAN_PARAMS`
+=============================  ==========  =======  =====  ======================================
+
+Messages: ``TPT`` (target point transmission), broadcast: the target as one
+polygon point (x int32, y int32, id uint32 = 12 bytes) plus the header.
+
+Interpretations: §5 says target points are published "to robots with lower
+priority"; we read that as a fixed priority by robot id, so robot i discounts
+only around the latest targets of robots j < i (``respect_priority=False``
+discounts around everyone's). A target stays in force until its robot sends a
+new one. The cost scale follows ``burgard`` (see its doc page).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.bytes import BROADCAST, POLYGON_POINT_BYTES, fixed_size
+from mrexplore.comm.messages import Message
+from mrexplore.strategies.base import (
+    REPLAN_PARAMS,
+    Cell,
+    Decision,
+    FrontierStrategy,
+    Param,
+    RobotView,
+)
+from mrexplore.strategies.burgard import discount
+
+TPT = "TPT"
+
+
+class MeierPolygon(FrontierStrategy):
+    """Meier et al. Algorithm 1: decentralised utility discounting."""
+
+    id = "meier-polygon"
+    summary = "Meier et al. 2005: decentralised discounting over polygon maps (Alg. 1)"
+    citation = "D. Meier, C. Stachniss, W. Burgard, ECMR 2005, §4 and Algorithm 1"
+    default_sharing = "polygon"
+    params: ClassVar[Mapping[str, Param]] = {
+        "beta": Param(1.0, "", "weight of travel cost against utility", "beta"),
+        "max_range": Param(0.0, "cells", "radius of P(d); 0 = sensor range", "max_range"),
+        "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
+        "respect_priority": Param(True, "", "only lower ids' targets discount"),
+        **REPLAN_PARAMS,
+    }
+
+    def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        self.received_targets: dict[int, Cell] = {}
+
+    def decide(self, view: RobotView) -> Decision:
+        for message in view.inbox:
+            if message.type == TPT and isinstance(message.payload, tuple):
+                self.received_targets[message.sender] = message.payload
+        decision = super().decide(view)
+        if decision.goal is not None:
+            decision.messages.append(
+                Message(
+                    TPT,
+                    self.robot_id,
+                    BROADCAST,
+                    fixed_size(POLYGON_POINT_BYTES),
+                    decision.goal,
+                )
+            )
+        return decision
+
+    def choose_goal(
+        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+    ) -> Cell | None:
+        rows, cols = np.nonzero(frontier & np.isfinite(dist) & (dist > 0))
+        if rows.size == 0:
+            return None
+        cost = dist[rows, cols]  # V_t
+        if self.p["normalize_cost"] and cost.max() > 0:
+            cost = cost / cost.max()
+        utility = np.ones(rows.size, dtype=np.float64)  # step 3
+        max_range = float(self.p["max_range"]) or view.sensor_range
+        for robot, target in sorted(self.received_targets.items()):  # steps 4-6
+            if robot == self.robot_id or (self.p["respect_priority"] and robot > self.robot_id):
+                continue
+            discount(utility, rows, cols, target, max_range)
+        best = int(np.argmax(utility - float(self.p["beta"]) * cost))  # step 7
+        return int(rows[best]), int(cols[best])
