@@ -248,6 +248,7 @@ def distance_field(
     *,
     targets: BoolGrid | None = None,
     max_distance: float = math.inf,
+    stop_after: int | None = None,
 ) -> npt.NDArray[np.float64]:
     """Exact 8-connected, no-corner-cutting shortest-path distances from ``source``.
 
@@ -261,6 +262,8 @@ def distance_field(
             of width 1 cell); if some target is unreachable the whole component is
             searched. Only passable targets (and the source) count.
         max_distance: cells farther than this (cells) are left at ``inf``.
+        stop_after: with ``targets``, stop once this many targets are settled (after
+            finishing the current band): ``stop_after=1`` finds the nearest targets.
 
     Returns:
         ``H x W`` float64 array of path lengths in cells; ``np.inf`` where a cell is
@@ -299,6 +302,10 @@ def distance_field(
         n_targets = int(np.count_nonzero(target_grid & grid))
         if target_flat[src] and not grid[row, col]:
             n_targets += 1
+        if stop_after is not None:
+            if stop_after < 1:
+                raise MrexploreInputError(f"stop_after must be >= 1, got {stop_after}")
+            n_targets = min(n_targets, stop_after)
     flat = grid.reshape(-1)
     if not flat[src]:
         flat = flat.copy()

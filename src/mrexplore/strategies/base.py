@@ -180,6 +180,9 @@ class FrontierStrategy(Strategy):
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
         self.last_plan_tick = -1
+        self.nearest_only = False
+        """True if :meth:`choose_goal` only needs the nearest frontier cells' distances
+        (the distance field then stops at the first frontier band)."""
 
     def needs_plan(self, view: RobotView) -> bool:
         """Whether the re-planning rules ask for a new goal at this tick."""
@@ -202,7 +205,16 @@ class FrontierStrategy(Strategy):
         frontier = frontier_mask(view.belief)
         if not frontier.any():
             return Decision(idle=True)
-        dist = distance_field(passable(view.belief), view.position, targets=frontier)
+        targets = frontier
+        if self.nearest_only:  # the nearest frontier is the first one settled
+            targets = frontier.copy()
+            targets[view.position] = False
+        dist = distance_field(
+            passable(view.belief),
+            view.position,
+            targets=targets,
+            stop_after=1 if self.nearest_only else None,
+        )
         goal = self.choose_goal(view, frontier, dist)
         if goal is None:
             return Decision(idle=True)

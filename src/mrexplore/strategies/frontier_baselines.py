@@ -31,7 +31,7 @@ Messages: none of their own; maps travel through the run's map-sharing mechanism
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -70,6 +70,10 @@ class NearestFrontier(FrontierStrategy):
     summary = "Yamauchi 1998: each robot goes to its closest frontier, no coordination"
     citation = "B. Yamauchi, Frontier-based exploration using multiple robots, Agents 1998"
     params: ClassVar[Mapping[str, Param]] = _FRONTIER_PARAMS
+
+    def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        self.nearest_only = int(self.p["min_frontier_size"]) <= 1
 
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
