@@ -222,3 +222,21 @@ def test_bad_inputs_raise_input_errors() -> None:
 def test_uint8_truth_is_accepted() -> None:
     passable = np.ones((3, 3), dtype=np.uint8)
     assert distance_field(passable, (0, 0))[2, 2] == pytest.approx(2 * SQRT2)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10_000), density=st.floats(0.0, 0.4))
+def test_stop_after_one_settles_the_nearest_target_exactly(seed: int, density: float) -> None:
+    rng = np.random.default_rng(seed)
+    passable = rng.random((25, 25)) >= density
+    targets = passable & (rng.random((25, 25)) < 0.05)
+    source = (12, 12)
+    passable[source] = True
+    targets[source] = False
+    full = distance_field(passable, source)
+    early = distance_field(passable, source, targets=targets, stop_after=1)
+    reachable = targets & np.isfinite(full)
+    if reachable.any():
+        assert np.isclose(early[targets].min(), full[reachable].min())
+    finite = np.isfinite(early)
+    assert np.allclose(early[finite], full[finite])
