@@ -304,14 +304,14 @@ class Simulation:
         passable = robot.belief == FREE
         radius2 = self.world.sensor_range_cells**2
         for other in self.robots:
-            if other.id == robot.id or not other.alive:
+            if other.id == robot.id:  # a failed robot still blocks its cell
                 continue
             d_row = other.position[0] - robot.position[0]
             d_col = other.position[1] - robot.position[1]
             if d_row * d_row + d_col * d_col > radius2:
                 continue
             passable[other.position] = False
-            if other.id < robot.id and other.path is not None:
+            if other.alive and other.id < robot.id and other.path is not None:
                 ahead = other.path[other.path_index + 1 : other.path_index + 1 + DETOUR_LOOKAHEAD]
                 passable[ahead[:, 0], ahead[:, 1]] = False
         passable[robot.position] = True

@@ -16,8 +16,9 @@ from mrexplore.strategies.registry import (
     make_strategy,
     register,
 )
+from mrexplore.strategies.sheng_bidding import ShengBidding
 
-for _cls in (RandomFrontier, NearestFrontier, Burgard):
+for _cls in (RandomFrontier, NearestFrontier, Burgard, ShengBidding):
     register(_cls)
 
 __all__ = [
@@ -29,6 +30,7 @@ __all__ = [
     "Param",
     "RandomFrontier",
     "RobotView",
+    "ShengBidding",
     "Strategy",
     "available_strategies",
     "get_strategy",

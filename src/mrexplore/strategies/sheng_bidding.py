@@ -1,0 +1,677 @@
+"""Sheng, Yang, Tan & Xi (2006): distributed bidding with a nearness measure.
+
+W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area
+exploration", Robotics and Autonomous Systems 54 (2006);
+``../shared/papers/sheng2006-distributed-bidding.txt`` §2-3 (the method) and §5
+(the defaults). Its map synchronisation (§4) is the ``sheng-sync`` sharing
+mechanism, this strategy's default sharing.
+
+Every robot runs the same program, asynchronously, with no central agent. A
+robot is always in one of three states (§3.1, Fig. 3): **sensing and mapping**
+(it has just arrived and sensed), **bidding** (it computes a bid over the
+frontier cells of its own map and competes with the other bidders of its
+sub-network) and **travelling** (it won a session and drives to its target).
+
+§3.2, for every frontier cell ``i`` of the robot's own map:
+
+* ``I_i``: the unknown cells within ``r_s`` of ``i`` that are not within ``r_s`` of
+  the position of another sensing-and-mapping robot nor of the target of another
+  travelling robot of the sub-network (:func:`exclusion_mask`,
+  :func:`information_gains`);
+* ``D_i``: the shortest travel distance from the robot to ``i`` over the cells it
+  knows to be free (Dijkstra, 8-connected, no corner cutting);
+* ``lambda_i``, eq. (1), :func:`nearness`: with ``d_1 <= d_2 <= ... <= d_(n_k-1)``
+  the travel distances from ``i`` to the other robots of the sub-network (their
+  positions, or their targets when they travel)::
+
+      lambda_i = e^(-d_1/r_c) + alpha e^(-d_2/r_c) + ... + alpha^(n_k-2) e^(-d_(n_k-1)/r_c)
+
+* the net gain, eq. (2), :func:`net_gain`: ``g_i = w1 I_i - w2 D_i + w3 lambda_i``;
+* the bid ``B = max_i g_i`` (:func:`compute_bid`).
+
+§3.3 and Fig. 5, the bidding session (:class:`ShengBidding`): the bidder
+broadcasts ``B`` and waits ``t_bid``; it wins if it heard no better bid (higher
+value; equal values go to the lower id), declares itself the winner with its
+target and travels. A bidder that heard a better bid waits for a winner to
+declare; every declaration ends the session: the others recompute their bids
+with the winner's target known and bid again. §3.4: a robot that finishes
+sensing when the best current session began more than ``T_win`` ago (less than
+``T_grace`` before it closes) stays out of it and waits for the next one.
+
+Parameters:
+
+=============================  ======  =======  ======  ===================================
+name                           symbol  default  unit    meaning
+=============================  ======  =======  ======  ===================================
+``w1``                         ω1      1.0      1/cell  weight of the information gain I_i
+``w2``                         ω2      1.0      1/cell  weight of the travel distance D_i
+``w3``                         ω3      1.5      -       weight of the nearness lambda_i
+                                                        (0 = the paper's "without nearness")
+``alpha``                      α       0.5      -       fading factor of eq. (1), in [0, 1]
+                                                        (the paper gives no value)
+``comm_range``                 r_c     16.0     cells   communication range in eq. (1);
+                                                        set it to the run's --comm-range
+``bid_time``                   t_bid   1        ticks   bidding time (paper: 1.5 s); at
+                                                        least t_d is used
+``declare_timeout``            -       0        ticks   longest wait past t_bid for a
+                                                        winner; 0 = t_bid + 2 t_d
+``replan_on_target_explored``  -       False    -       stop travelling and bid again when
+                                                        the target stops being a frontier
+=============================  ======  =======  ======  ===================================
+
+Time windows (§3.4, Fig. 6), from the sub-network at the start of each session
+(:func:`session_timing`): ``t_d = comm_latency x hop diameter`` of the
+sub-network (the largest delay of a message in it; 0 for a lone robot),
+``t_bid = max(bid_time, t_d)``, ``T_grace = t_d + 1`` (Proposition 1:
+``T_grace > t_d``) and the send-map window ``T_win = t_bid - T_grace``.
+
+Messages (all broadcast to the sub-network; sizes from :mod:`mrexplore.comm.bytes`,
+header 7 bytes):
+
+============  ===================================  =====  ===============================
+type          payload                              bytes  sent
+============  ===================================  =====  ===============================
+``bid``       robot, target cell, value (float32)  17     a bid or a re-bid
+``winner``    robot, target cell                   13     the winner's declaration
+``position``  robot, cell                          13     on entering sensing-and-mapping
+``target``    robot, target cell                   13     a travelling robot's target,
+                                                          again when new robots join its
+                                                          sub-network
+============  ===================================  =====  ===============================
+
+Interpretations (where the paper is silent):
+
+* **Time.** Everything is in ticks. A bid sent at tick ``s`` is read by robots
+  ``h`` hops away at ``s + h * comm_latency``; ``t_bid = max(bid_time, t_d)`` with
+  ``bid_time = 1`` is the shortest session in which robots that bid together hear
+  each other (the paper's 1.5 s was long against a LAN's delay). One robot wins
+  per session, so a sub-network sends out at most one robot every
+  ``t_bid + t_d`` ticks (2 by default).
+* **The timer does not restart on re-bids.** Fig. 5 restarts it whenever a bid is
+  recomputed; with sensing while moving, map updates arrive every tick and a
+  restarting timer would never expire. A session lasts ``t_bid`` from the robot's
+  first bid in it; re-bids (new map cells, a new bidder) happen only inside the
+  send-map window and do not extend the session. With the defaults
+  ``T_win = -1``: no re-bids, and a robot that finishes sensing while any
+  session is open waits for its declaration.
+* **Holding the map.** Map updates are sent by the run's sharing mechanism when
+  cells are sensed; a strategy cannot hold them back. The late robot only stays out
+  of the closing session, and updates arriving late in a session are used in the
+  next one.
+* **Session start times** travel with no timestamp (a bid is 10 bytes): a robot
+  estimates a bid's start as its arrival tick minus ``comm_latency`` times the
+  hops from the bidder, and keeps each robot's earliest bid of the session.
+* **Timeouts.** A loser waits at most ``declare_timeout`` ticks past its own
+  ``t_bid`` for a declaration, then forgets the better bids and bids again; a late
+  robot waits at most ``t_bid + declare_timeout`` for the open session to end.
+  No robot waits forever, whatever the network loses.
+* **Who counts.** Only robots of the current sub-network enter ``I_i`` and eq. (1)
+  (the paper: "within the same subnetwork"); a robot whose position or target was
+  never received is left out. A robot that is bidding, waiting or done counts as
+  sensing-and-mapping at the position it announced.
+* **Travel distances in eq. (1)** are shortest paths over the bidder's own map
+  from the other robot's cell; an unreachable one gives ``e^(-inf) = 0``.
+* **I_i** counts unknown cells of the disk without line of sight, as the paper
+  defines it; the robot's own cell is never a candidate.
+* **Units.** ``I_i`` and ``D_i`` are raw cell counts and path lengths, as in the
+  paper; ``lambda_i <= 1 / (1 - alpha)``, so with the defaults the nearness term
+  is worth at most 3 cells of gain or distance.
+* **Winning with a stale target.** If the bid's target is no longer a reachable
+  frontier cell when the robot wins, it recomputes its bid and goes to the new
+  best cell.
+* **Travelling** goes to the target cell, as in the paper ("the winning robot then
+  moves to its target frontier cell"), even when, sensing while moving, the robot
+  sees the target's surroundings before it arrives. ``replan_on_target_explored``
+  stops it where it is (it announces its position and bids again) once the target
+  is no longer a frontier cell; stopping short makes more, shorter trips and so
+  more sessions, which costs time in a team.
+* **Completion.** A robot with no reachable frontier cell stays where it is and
+  bids again as soon as its map gains cells.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.bytes import (
+    BID_BYTES,
+    BROADCAST,
+    POSITION_BYTES,
+    TARGET_BYTES,
+    fixed_size,
+)
+from mrexplore.comm.messages import BID, TARGET, Message
+from mrexplore.errors import ScenarioError
+from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
+from mrexplore.planning import (
+    disk_offsets,
+    distance_field,
+    extract_path,
+    frontier_mask,
+    information_gain,
+)
+from mrexplore.strategies.base import (
+    Cell,
+    Decision,
+    Param,
+    Path,
+    RobotView,
+    Strategy,
+    frontier_at,
+    passable,
+)
+
+WINNER = "winner"
+"""Message type of a winner declaration (robot id and target)."""
+POSITION = "position"
+"""Message type of a sensing-and-mapping robot's position."""
+
+# Robot states (§3.1, Fig. 3), plus the two waits of Fig. 5 made explicit.
+SENSING = "sensing-mapping"
+BIDDING = "bidding"
+WAITING = "waiting"  # finished sensing inside a closing session: waits for the next
+TRAVELLING = "travelling"
+DONE = "done"  # no reachable frontier cell in its map
+
+
+# ----------------------------------------------------------------------------- payloads
+@dataclass(frozen=True, slots=True)
+class BidPayload:
+    """A bid: the bidder, the frontier cell it bids for and ``B`` (float32 on the wire)."""
+
+    robot: int
+    target: Cell
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class TargetPayload:
+    """A robot and its target cell (winner declaration or target re-announcement)."""
+
+    robot: int
+    target: Cell
+
+
+@dataclass(frozen=True, slots=True)
+class PositionPayload:
+    """A sensing-and-mapping robot and its cell."""
+
+    robot: int
+    position: Cell
+
+
+# ----------------------------------------------------------------------------- equations
+def nearness(distances: npt.ArrayLike, r_c: float, alpha: float) -> Any:
+    """Eq. (1): ``lambda = sum_k alpha^k exp(-d_(k) / r_c)`` over the sorted distances.
+
+    ``distances`` holds the travel distances (cells) to the other robots of the
+    sub-network along its last axis, in any order (``inf`` = unreachable, adds 0);
+    a 2-D array gives one value per row. ``r_c`` is the communication range (cells).
+
+    >>> round(float(nearness([8.0, 4.0], 16.0, 0.5)), 6)  # e^-0.25 + 0.5 e^-0.5
+    1.082066
+    >>> float(nearness([], 16.0, 0.5))
+    0.0
+    """
+    d = np.sort(np.asarray(distances, dtype=np.float64), axis=-1)
+    fading = alpha ** np.arange(d.shape[-1], dtype=np.float64)
+    with np.errstate(over="ignore"):
+        terms = np.exp(-d / r_c)
+    return np.sum(fading * terms, axis=-1)
+
+
+def net_gain(
+    information: npt.ArrayLike,
+    distance: npt.ArrayLike,
+    lam: npt.ArrayLike,
+    w1: float,
+    w2: float,
+    w3: float,
+) -> Any:
+    """Eq. (2): ``g = w1 I - w2 D + w3 lambda`` (elementwise).
+
+    >>> float(net_gain(20, 7.5, 1.0, 1.0, 1.0, 1.5))
+    14.0
+    """
+    return (
+        w1 * np.asarray(information, dtype=np.float64)
+        - w2 * np.asarray(distance, dtype=np.float64)
+        + w3 * np.asarray(lam, dtype=np.float64)
+    )
+
+
+def exclusion_mask(shape: tuple[int, int], centres: Iterable[Cell], radius: float) -> BoolGrid:
+    """Cells within ``radius`` (cells, Euclidean) of any of ``centres``.
+
+    >>> exclusion_mask((3, 4), [(1, 1)], 1.0).astype(int).tolist()
+    [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
+    """
+    mask = np.zeros(shape, dtype=bool)
+    offsets = disk_offsets(radius)
+    for row, col in centres:
+        rows = offsets[:, 0] + row
+        cols = offsets[:, 1] + col
+        inside = (rows >= 0) & (rows < shape[0]) & (cols >= 0) & (cols < shape[1])
+        mask[rows[inside], cols[inside]] = True
+    return mask
+
+
+def information_gains(
+    belief: BeliefGrid,
+    candidates: npt.NDArray[np.integer],
+    sensor_range: float,
+    others: Iterable[Cell],
+) -> npt.NDArray[np.int64]:
+    """``I_i`` of §3.2: unknown cells within ``sensor_range`` of each candidate, not
+    counting those within ``sensor_range`` of any cell of ``others`` (positions of
+    the other sensing-and-mapping robots, targets of the travelling ones)."""
+    centres = list(others)
+    exclude = exclusion_mask(belief.shape, centres, sensor_range) if centres else None
+    return information_gain(belief, candidates, sensor_range, exclude=exclude)
+
+
+# ----------------------------------------------------------------------------- the bid
+@dataclass(frozen=True, slots=True)
+class Bid:
+    """The best frontier cell and its terms; ``value`` is ``B`` rounded to float32."""
+
+    target: Cell
+    value: float
+    information: float
+    distance: float
+    nearness: float
+
+
+def compute_bid(
+    belief: BeliefGrid,
+    position: Cell,
+    sensing_positions: Sequence[Cell],
+    travel_targets: Sequence[Cell],
+    *,
+    sensor_range: float,
+    comm_range: float,
+    alpha: float,
+    w1: float,
+    w2: float,
+    w3: float,
+) -> tuple[Bid, npt.NDArray[np.float64]] | None:
+    """§3.2: the bid ``B = max_i g_i`` of a robot at ``position`` over its frontier cells.
+
+    ``sensing_positions`` and ``travel_targets`` describe the *other* robots of the
+    sub-network. Returns the bid and the robot's distance field (for its path), or
+    ``None`` when no frontier cell is reachable. Ties go to the first cell in
+    raster order.
+    """
+    frontier = frontier_mask(belief)
+    if not frontier.any():
+        return None
+    free = passable(belief)
+    own = distance_field(free, position, targets=frontier)
+    candidates = frontier & np.isfinite(own) & (own > 0)
+    rows, cols = np.nonzero(candidates)
+    if rows.size == 0:
+        return None
+    cells = np.stack([rows, cols], axis=1)
+    others = [*sensing_positions, *travel_targets]
+    gain = information_gains(belief, cells, sensor_range, others)
+    distance = own[rows, cols]
+    if w3 != 0.0 and others:
+        to_others = np.empty((rows.size, len(others)), dtype=np.float64)
+        for k, cell in enumerate(others):
+            to_others[:, k] = distance_field(free, cell, targets=candidates)[rows, cols]
+        lam = nearness(to_others, comm_range, alpha)
+    else:
+        lam = np.zeros(rows.size, dtype=np.float64)
+    g = net_gain(gain, distance, lam, w1, w2, w3)
+    best = int(np.argmax(g))
+    bid = Bid(
+        target=(int(rows[best]), int(cols[best])),
+        value=float(np.float32(g[best])),
+        information=float(gain[best]),
+        distance=float(distance[best]),
+        nearness=float(lam[best]),
+    )
+    return bid, own
+
+
+# ----------------------------------------------------------------------------- timing
+def hop_distances(source: int, links: Iterable[tuple[int, int]]) -> dict[int, int]:
+    """Hops from ``source`` to every robot it reaches over ``links`` (itself: 0)."""
+    neighbours: dict[int, list[int]] = {}
+    for a, b in links:
+        neighbours.setdefault(a, []).append(b)
+        neighbours.setdefault(b, []).append(a)
+    hops = {source: 0}
+    queue = deque([source])
+    while queue:
+        node = queue.popleft()
+        for nxt in neighbours.get(node, ()):
+            if nxt not in hops:
+                hops[nxt] = hops[node] + 1
+                queue.append(nxt)
+    return hops
+
+
+def hop_diameter(members: Iterable[int], links: Iterable[tuple[int, int]]) -> int:
+    """Largest number of hops between two robots of a connected sub-network.
+
+    >>> hop_diameter([0, 1, 2, 3], [(0, 1), (1, 2), (2, 3)])
+    3
+    """
+    link_list = list(links)
+    return max((max(hop_distances(m, link_list).values()) for m in members), default=0)
+
+
+@dataclass(frozen=True, slots=True)
+class SessionTiming:
+    """The time parameters of §3.4 (Fig. 6), in ticks."""
+
+    max_delay: int
+    """``t_d``: the largest delay of a message inside the sub-network."""
+    grace: int
+    """``T_grace = t_d + 1`` (Proposition 1: ``T_grace > t_d``)."""
+    bid: int
+    """``t_bid = max(bid_time, T_grace)``."""
+    send_map_window: int
+    """``T_win = t_bid - T_grace``."""
+    declare_timeout: int
+    """Ticks past ``t_bid`` a loser waits for a winner to declare."""
+
+
+def session_timing(max_delay: int, bid_time: int, declare_timeout: int = 0) -> SessionTiming:
+    """§3.4's windows from the largest delay ``max_delay`` (ticks) of the sub-network.
+
+    >>> session_timing(1, 2)
+    SessionTiming(max_delay=1, grace=2, bid=2, send_map_window=0, declare_timeout=4)
+    >>> session_timing(0, 3).send_map_window  # a lone robot
+    2
+    """
+    grace = max_delay + 1
+    bid = max(bid_time, max_delay)
+    timeout = declare_timeout if declare_timeout > 0 else bid + 2 * max_delay
+    return SessionTiming(max_delay, grace, bid, bid - grace, timeout)
+
+
+@dataclass(slots=True)
+class _HeardBid:
+    value: float
+    target: Cell
+    begin: int  # estimated tick at which the bidder's session began
+
+
+def _beats(value_a: float, robot_a: int, value_b: float, robot_b: int) -> bool:
+    """Whether bid a is better than bid b: higher value, ties to the lower id."""
+    return value_a > value_b or (value_a == value_b and robot_a < robot_b)
+
+
+# ----------------------------------------------------------------------------- strategy
+class ShengBidding(Strategy):
+    """Sheng et al. 2006: every robot bids ``max_i g_i`` in sessions of its sub-network."""
+
+    id = "sheng-bidding"
+    summary = "Sheng et al. 2006: distributed bidding with a nearness measure"
+    citation = (
+        "W. Sheng, Q. Yang, J. Tan, N. Xi, Distributed multi-robot coordination in area "
+        "exploration, Robotics and Autonomous Systems 54 (2006), §2-3"
+    )
+    default_sharing: ClassVar[str] = "sheng-sync"
+    params: ClassVar[Mapping[str, Param]] = {
+        "w1": Param(1.0, "1/cell", "weight of the information gain I_i", "ω1"),
+        "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2"),
+        "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3"),
+        "alpha": Param(0.5, "", "fading factor of eq. (1), in [0, 1]", "α"),
+        "comm_range": Param(16.0, "cells", "r_c of eq. (1); match --comm-range", "r_c"),
+        "bid_time": Param(1, "ticks", "bidding time (at least t_d is used)", "t_bid"),
+        "declare_timeout": Param(
+            0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d"
+        ),
+        "replan_on_target_explored": Param(
+            False, "", "stop and bid again when the target is no longer a frontier cell"
+        ),
+    }
+
+    def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        p = self.p
+        if not 0.0 <= p["alpha"] <= 1.0:
+            raise ScenarioError(f"--set alpha={p['alpha']}: the fading factor must be in [0, 1]")
+        if not p["comm_range"] > 0:
+            raise ScenarioError(f"--set comm_range={p['comm_range']}: must be > 0 cells")
+        if p["bid_time"] < 1:
+            raise ScenarioError(f"--set bid_time={p['bid_time']}: must be >= 1 tick")
+        if p["declare_timeout"] < 0:
+            raise ScenarioError(f"--set declare_timeout={p['declare_timeout']}: must be >= 0")
+        self.state = SENSING
+        # What this robot knows of the others, from messages only.
+        self.positions: dict[int, Cell] = {}  # sensing-and-mapping robots
+        self.targets: dict[int, Cell] = {}  # travelling robots
+        self.bids: dict[int, _HeardBid] = {}  # bids of the current session
+        # Its own session.
+        self.my_bid: Bid | None = None
+        self.session_start = -1
+        self.expiry = -1
+        self.timing = session_timing(0, int(p["bid_time"]), int(p["declare_timeout"]))
+        self.wait_deadline = -1
+        self.cells_seen = 0
+        self.previous_subnetwork: frozenset[int] | None = None
+        self._topology: tuple[frozenset[tuple[int, int]], int, dict[int, int]] | None = None
+
+    # ------------------------------------------------------------------ decide
+    def decide(self, view: RobotView) -> Decision:
+        decision = self._step(view)
+        if decision.replans:  # the simulator restarts its count of new cells
+            self.cells_seen = 0
+        return decision
+
+    def _step(self, view: RobotView) -> Decision:
+        out: list[Message] = []
+        declared, new_bidder = self._absorb(view)
+        info_changed = view.new_cells > self.cells_seen
+        self.cells_seen = view.new_cells
+        announced = False
+        previous = self.previous_subnetwork
+        self.previous_subnetwork = view.subnetwork
+        if previous is not None and view.subnetwork - previous:
+            out.append(self._announce(view))  # tell the robots that just joined
+            announced = True
+
+        if self.state == TRAVELLING:
+            if view.goal is not None:
+                explored = bool(self.p["replan_on_target_explored"]) and not frontier_at(
+                    view.belief, *view.goal
+                )
+                if not explored:
+                    return Decision(messages=out)
+                decision = self._sense(view, out, announced)
+                if decision.goal is None:
+                    decision.idle = True
+                return decision
+            return self._sense(view, out, announced)
+        if self.state == SENSING:
+            return self._sense(view, out, announced)
+        if self.state == DONE:
+            if info_changed:
+                return self._sense(view, out, announced=True)
+            return Decision(messages=out)
+        if self.state == WAITING:
+            if declared or not self._live_bids(view) or view.tick >= self.wait_deadline:
+                return self._start_session(view, out)
+            return Decision(messages=out)
+        # BIDDING
+        if declared:
+            return self._start_session(view, out)
+        if (
+            (info_changed or new_bidder)
+            and view.tick - self.session_start <= self.timing.send_map_window
+            and view.tick > self.session_start
+        ):
+            rebid = self._bid(view)
+            if rebid is None:
+                self.state = DONE
+                return Decision(messages=out)
+            self.my_bid = rebid
+            out.append(self._bid_message(rebid))
+        if view.tick < self.expiry:
+            return Decision(messages=out)
+        assert self.my_bid is not None
+        better = [
+            robot
+            for robot, heard in self._live_bids(view).items()
+            if _beats(heard.value, robot, self.my_bid.value, self.robot_id)
+        ]
+        if not better:
+            return self._win(view, out)
+        if view.tick >= self.expiry + self.timing.declare_timeout:
+            for robot in better:  # they never declared: forget them, bid again
+                del self.bids[robot]
+            return self._start_session(view, out)
+        return Decision(messages=out)
+
+    # ------------------------------------------------------------------ messages in
+    def _absorb(self, view: RobotView) -> tuple[bool, bool]:
+        """Update the tables from the inbox; return (a winner declared, a new bidder)."""
+        declared = new_bidder = False
+        bids: list[BidPayload] = []
+        for message in view.inbox:
+            payload = message.payload
+            if message.type == POSITION and isinstance(payload, PositionPayload):
+                self.positions[payload.robot] = payload.position
+                self.targets.pop(payload.robot, None)
+                self.bids.pop(payload.robot, None)
+            elif message.type in (WINNER, TARGET) and isinstance(payload, TargetPayload):
+                self.targets[payload.robot] = payload.target
+                self.positions.pop(payload.robot, None)
+                if message.type == WINNER:
+                    declared = True
+                    self.bids.clear()  # the session is over; its losers bid again
+            elif message.type == BID and isinstance(payload, BidPayload):
+                bids.append(payload)
+        for bid in bids:
+            heard = self.bids.get(bid.robot)
+            if heard is None:
+                new_bidder = True
+                begin = view.tick - view.comm_latency * self._hops(view).get(bid.robot, 1)
+                self.bids[bid.robot] = _HeardBid(bid.value, bid.target, begin)
+            else:
+                heard.value, heard.target = bid.value, bid.target
+        return declared, new_bidder
+
+    def _hops(self, view: RobotView) -> dict[int, int]:
+        if self._topology is None or self._topology[0] != view.links:
+            hops = hop_distances(self.robot_id, view.links)
+            diameter = hop_diameter(view.subnetwork, view.links) if len(hops) > 1 else 0
+            self._topology = (view.links, diameter, hops)
+        return self._topology[2]
+
+    def _current_timing(self, view: RobotView) -> SessionTiming:
+        self._hops(view)
+        assert self._topology is not None
+        max_delay = view.comm_latency * self._topology[1] if len(view.subnetwork) > 1 else 0
+        return session_timing(max_delay, int(self.p["bid_time"]), int(self.p["declare_timeout"]))
+
+    def _live_bids(self, view: RobotView) -> dict[int, _HeardBid]:
+        """Bids of the current session from robots still in the sub-network."""
+        for robot in [r for r in self.bids if r not in view.subnetwork]:
+            del self.bids[robot]
+        return self.bids
+
+    # ------------------------------------------------------------------ messages out
+    def _announce(self, view: RobotView) -> Message:
+        if self.state == TRAVELLING and view.goal is not None:
+            payload = TargetPayload(self.robot_id, view.goal)
+            return Message(TARGET, self.robot_id, BROADCAST, fixed_size(TARGET_BYTES), payload)
+        position = PositionPayload(self.robot_id, view.position)
+        return Message(POSITION, self.robot_id, BROADCAST, fixed_size(POSITION_BYTES), position)
+
+    def _bid_message(self, bid: Bid) -> Message:
+        payload = BidPayload(self.robot_id, bid.target, bid.value)
+        return Message(BID, self.robot_id, BROADCAST, fixed_size(BID_BYTES), payload)
+
+    # ------------------------------------------------------------------ states
+    def _sense(self, view: RobotView, out: list[Message], announced: bool) -> Decision:
+        """Sensing and mapping is over (the simulator sensed): announce, then bid or wait."""
+        self.state = SENSING
+        if not announced:
+            position = PositionPayload(self.robot_id, view.position)
+            out.append(
+                Message(POSITION, self.robot_id, BROADCAST, fixed_size(POSITION_BYTES), position)
+            )
+        self.timing = self._current_timing(view)
+        live = self._live_bids(view)
+        if live:
+            begin = max(live.items(), key=lambda item: (item[1].value, -item[0]))[1].begin
+            if view.tick - begin > self.timing.send_map_window:  # the session is closing
+                self.state = WAITING
+                self.wait_deadline = view.tick + self.timing.bid + self.timing.declare_timeout
+                return Decision(messages=out)
+        return self._start_session(view, out)
+
+    def _start_session(self, view: RobotView, out: list[Message]) -> Decision:
+        self.timing = self._current_timing(view)
+        bid = self._bid(view)
+        if bid is None:
+            self.state = DONE
+            self.my_bid = None
+            return Decision(messages=out)
+        self.state = BIDDING
+        self.my_bid = bid
+        self.session_start = view.tick
+        self.expiry = view.tick + self.timing.bid
+        out.append(self._bid_message(bid))
+        return Decision(messages=out)
+
+    def _bid(self, view: RobotView) -> Bid | None:
+        result = self._evaluate(view)
+        return None if result is None else result[0]
+
+    def _evaluate(self, view: RobotView) -> tuple[Bid, npt.NDArray[np.float64]] | None:
+        others = view.subnetwork - {self.robot_id}
+        return compute_bid(
+            view.belief,
+            view.position,
+            [cell for robot, cell in sorted(self.positions.items()) if robot in others],
+            [cell for robot, cell in sorted(self.targets.items()) if robot in others],
+            sensor_range=view.sensor_range,
+            comm_range=float(self.p["comm_range"]),
+            alpha=float(self.p["alpha"]),
+            w1=float(self.p["w1"]),
+            w2=float(self.p["w2"]),
+            w3=float(self.p["w3"]),
+        )
+
+    def _win(self, view: RobotView, out: list[Message]) -> Decision:
+        """No better bid: declare (Fig. 5 ``broadcast(my_ID)``) and travel."""
+        assert self.my_bid is not None
+        goal = self.my_bid.target
+        path = self._path_to(view, goal) if frontier_at(view.belief, *goal) else None
+        if path is None:  # the target went stale during the session: recompute
+            result = self._evaluate(view)
+            if result is None:
+                self.state = DONE
+                return Decision(messages=out)
+            self.my_bid, field = result
+            goal = self.my_bid.target
+            path = extract_path(field, goal)
+        self.state = TRAVELLING
+        self.bids.clear()
+        payload = TargetPayload(self.robot_id, goal)
+        out.append(Message(WINNER, self.robot_id, BROADCAST, fixed_size(TARGET_BYTES), payload))
+        return Decision(goal=goal, path=path, messages=out)
+
+    @staticmethod
+    def _path_to(view: RobotView, goal: Cell) -> Path | None:
+        if goal == view.position:
+            return None
+        only_goal = np.zeros(view.belief.shape, dtype=bool)
+        only_goal[goal] = True
+        field = distance_field(passable(view.belief), view.position, targets=only_goal)
+        if not math.isfinite(field[goal]):
+            return None
+        return extract_path(field, goal)
