@@ -40,6 +40,8 @@ __all__ = [
     "make_sharing",
 ]
 
+from mrexplore.comm.polygon import PolygonSharing  # registers after sharing
 from mrexplore.comm.sheng_sync import ShengSync  # registers after sharing
 
 SHARING["sheng-sync"] = ShengSync
+SHARING["polygon"] = PolygonSharing

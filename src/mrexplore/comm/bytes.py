@@ -30,6 +30,12 @@ polygon point          x int32, y int32, id uint32                     12
 laser scan             n_beams x range uint16                          2 n
 =====================  ===========================================  =======
 
+Fields of the polygon packages (``polygon`` sharing, Meier et al. §3; layouts in
+:mod:`mrexplore.comm.polygon_packages`): sequence number uint32 (4), item count
+uint16 (2), flags uint8 (1), point id uint32 (4), polygon id uint32 (4), layer
+uint8 (1). Sheng's map deltas (``sheng-sync``) carry discoverer uint16 + sequence
+number uint32 (one sequence-number entry, 6) before their cells.
+
 A broadcast is one transmission: its bytes are counted once per hop it is sent
 on, not once per receiver (a radio broadcast reaches every robot in range).
 """
@@ -45,6 +51,13 @@ BID_BYTES = 10
 SEQUENCE_ENTRY_BYTES = 6
 POLYGON_POINT_BYTES = 12
 SCAN_BEAM_BYTES = 2
+
+SEQ_BYTES = 4
+COUNT_BYTES = 2
+FLAGS_BYTES = 1
+POINT_ID_BYTES = 4
+POLYGON_ID_BYTES = 4
+LAYER_BYTES = 1
 
 BROADCAST = 0xFFFF
 

@@ -38,6 +38,7 @@ _HASH_SEED = np.uint64(0xCBF29CE484222325)
 @numba.njit(cache=True, nogil=True)
 def trace_contours_kernel(
     mask: npt.NDArray[np.bool_],
+    labels: npt.NDArray[np.int32],
     points: IntArray,
     offsets: IntArray,
     holes: npt.NDArray[np.bool_],
@@ -47,6 +48,7 @@ def trace_contours_kernel(
 
     Args:
         mask: ``H x W`` boolean grid, ``True`` = foreground.
+        labels: scratch of ``(H + 2) * (W + 2)`` int32, any content.
         points, offsets, holes, hashes: output buffers (see :func:`trace_contours`);
             ``offsets``, ``holes`` and ``hashes`` must hold one entry per
             foreground cell (plus one for ``offsets``), ``points`` any size.
@@ -56,11 +58,14 @@ def trace_contours_kernel(
     """
     height, width = mask.shape
     padded_width = width + 2
-    labels = np.zeros((height + 2) * padded_width, dtype=np.int32)
+    labels[: padded_width + 1] = 0
     for r in range(height):
+        base = (r + 1) * padded_width + 1
         for c in range(width):
-            if mask[r, c]:
-                labels[(r + 1) * padded_width + c + 1] = 1
+            labels[base + c] = 1 if mask[r, c] else 0
+        labels[base + width] = 0
+        labels[base + width + 1] = 0
+    labels[(height + 1) * padded_width :] = 0
     deltas = _D_ROW * padded_width + _D_COL
     capacity = points.size
     n_points = 0
@@ -135,12 +140,14 @@ def trace_contours_kernel(
 
 
 def trace_contours(
-    mask: npt.NDArray[np.bool_],
+    mask: npt.NDArray[np.bool_], scratch: npt.NDArray[np.int32] | None = None
 ) -> tuple[IntArray, IntArray, npt.NDArray[np.bool_], npt.NDArray[np.uint64]]:
     """All borders of the 8-connected components of ``mask`` (Suzuki & Abe, 1985).
 
     Args:
         mask: ``H x W`` boolean grid, ``True`` = foreground.
+        scratch: optional int32 buffer of at least ``(H + 2) * (W + 2)`` entries,
+            reused between calls to spare an allocation.
 
     Returns:
         ``(points, offsets, is_hole, hashes)``: contour ``k`` is
@@ -157,6 +164,9 @@ def trace_contours(
     ([(1, 1), (2, 1), (2, 2), (2, 3), (1, 3), (1, 2)], [0, 6], [False])
     """
     mask = np.ascontiguousarray(mask, dtype=np.bool_)
+    n_padded = (mask.shape[0] + 2) * (mask.shape[1] + 2)
+    if scratch is None or scratch.size < n_padded:
+        scratch = np.empty(n_padded, dtype=np.int32)
     n_foreground = int(np.count_nonzero(mask))
     offsets = np.empty(n_foreground + 1, dtype=np.int64)
     holes = np.empty(n_foreground, dtype=np.bool_)
@@ -164,7 +174,9 @@ def trace_contours(
     capacity = 2 * n_foreground + 64
     while True:
         points = np.empty(capacity, dtype=np.int64)
-        n_contours = int(trace_contours_kernel(mask, points, offsets, holes, hashes))
+        n_contours = int(
+            trace_contours_kernel(mask, scratch[:n_padded], points, offsets, holes, hashes)
+        )
         if n_contours >= 0:
             break
         capacity *= 2
@@ -181,6 +193,7 @@ def trace_contours(
 def match_vertices(
     contour_points: IntArray,
     contour_offsets: IntArray,
+    eligible: npt.NDArray[np.bool_],
     head: IntArray,
     vertex_cells: IntArray,
     polygon_offsets: IntArray,
@@ -200,7 +213,9 @@ def match_vertices(
 
     Args:
         contour_points, contour_offsets: the new contours (see
-            :func:`trace_contours_kernel`).
+            :func:`trace_contours`).
+        eligible: per contour, whether vertices may be placed on it (contours
+            that did not change keep their own polygon and take no others).
         head: scratch, ``H * W`` int64 filled with ``-1``; restored on return.
         vertex_cells: flat cell of every old vertex, polygon after polygon, each
             polygon's vertices in order.
@@ -216,6 +231,8 @@ def match_vertices(
             contour_of[g] = k
     following = np.empty(n_points, dtype=np.int64)
     for g in range(n_points - 1, -1, -1):
+        if not eligible[contour_of[g]]:
+            continue
         cell = contour_points[g]
         following[g] = head[cell]
         head[cell] = g

@@ -12,17 +12,26 @@ Byte layout (little-endian; every message also carries the 7-byte header of
 row of a cell centre). A *polygon record* is ``polygon id uint32, layer uint8,
 n_points uint16`` (7 bytes) followed by its points in order.
 
-======  ==============================================================  ====================
-type    payload                                                         bytes (after header)
-======  ==============================================================  ====================
-``VP``  seq uint32, n uint16, n x point id uint32                       6 + 4 n
-``ES``  seq uint32, n uint16, n x (after-id uint32, point)              6 + 16 n
-``B``   seq uint32, flags uint8, n uint16, n x polygon record           7 + sum(7 + 12 m_i)
-``EP``  seq uint32, n uint16, n x polygon record                        6 + sum(7 + 12 m_i)
-======  ==============================================================  ====================
+A *run record* is ``polygon id uint32, layer uint8, n_runs uint16`` (7 bytes)
+followed by ``n_runs`` runs ``first id uint32, last id uint32`` (8 bytes): the
+polygon is the concatenation of its runs, a run being the vertices from
+``first`` to ``last`` walking forward through the polygon that holds ``first``
+just before the package (a run of a new point is that point alone).
 
-``flags`` bit 0 marks a full resync. The extra field sizes below
-(``SEQ_BYTES`` ... ``LAYER_BYTES``) are the only place they are defined.
+==========  ==========================================================  ==========================
+type        payload                                                     bytes (after header)
+==========  ==========================================================  ==========================
+``VP``      seq uint32, n uint16, n x point id uint32                   6 + 4 n
+``ES``      seq uint32, n uint16, n x (after-id uint32, point)          6 + 16 n
+``B``       seq uint32, flags uint8 = 0, k uint16, k x point (new       9 + 12 k + sum(7 + 8 r_i)
+            points), n uint16, n x run record
+``B`` sync  seq uint32, flags uint8 = 1, n uint16, n x polygon record   7 + sum(7 + 12 m_i)
+``EP``      seq uint32, n uint16, n x polygon record                    6 + sum(7 + 12 m_i)
+==========  ==========================================================  ==========================
+
+``flags`` bit 0 marks a full resync (:class:`Resync`), else a restructure
+(:class:`BrokenBoundary`). The extra field sizes below (``SEQ_BYTES`` ...
+``RUN_BYTES``) are the only place they are defined.
 
 ``TPT`` (target point transmission) is the paper's fifth package type; it
 carries a robot's chosen target and belongs to the coordination strategy, not
@@ -36,7 +45,16 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import HEADER_BYTES, POLYGON_POINT_BYTES
+from mrexplore.comm.bytes import (
+    COUNT_BYTES,
+    FLAGS_BYTES,
+    HEADER_BYTES,
+    LAYER_BYTES,
+    POINT_ID_BYTES,
+    POLYGON_ID_BYTES,
+    POLYGON_POINT_BYTES,
+    SEQ_BYTES,
+)
 from mrexplore.errors import MrexploreError
 
 IntArray = npt.NDArray[np.int64]
@@ -58,21 +76,11 @@ PAPER_PACKAGE_TYPES = frozenset({TPT, ES, B, VP, EP})
 MAP_PACKAGE_TYPES = frozenset({ES, B, VP, EP})
 """The four that carry the polygon map (what :class:`PolygonSharing` sends)."""
 
-# Field sizes in bytes: the single definition of every field beyond the point.
-SEQ_BYTES = 4
-"""Per-sender sequence number, uint32, first field of every package."""
-COUNT_BYTES = 2
-"""Number of items that follow (ids, splits, polygons, points), uint16."""
-FLAGS_BYTES = 1
-"""``B`` flags, uint8; bit 0 = full resync."""
-POINT_ID_BYTES = 4
-"""A vertex id alone, uint32 (``VP`` entries, the ``after`` field of ``ES``)."""
-POLYGON_ID_BYTES = 4
-"""Polygon id, uint32."""
-LAYER_BYTES = 1
-"""Layer of a polygon, uint8: 0 = observed area, 1 = obstacles."""
+# Field sizes in bytes come from the byte model (mrexplore.comm.bytes).
 POLYGON_RECORD_HEADER_BYTES = POLYGON_ID_BYTES + LAYER_BYTES + COUNT_BYTES
-"""Bytes of a polygon record before its points (7)."""
+"""Bytes of a polygon record (or a run record) before its points (runs): 7."""
+RUN_BYTES = 2 * POINT_ID_BYTES
+"""A run of known vertices: first id, last id (8)."""
 MAX_COUNT = 2 ** (8 * COUNT_BYTES) - 1
 """Largest count a uint16 field holds (65535)."""
 
@@ -119,11 +127,37 @@ class EdgeSplits:
 
 
 @dataclass(frozen=True, slots=True)
+class PolygonRuns:
+    """One polygon of a ``B`` restructure: id, layer and its runs.
+
+    ``runs`` is an ``n x 2`` int64 array of ``(first id, last id)`` rows; see the
+    module docstring.
+    """
+
+    polygon_id: int
+    layer: int
+    runs: IntArray
+
+
+@dataclass(frozen=True, slots=True)
 class BrokenBoundary:
-    """``B`` payload: polygons (re)defined in full; ``full`` = a resync of everything."""
+    """``B`` payload (flags 0): polygons re-linked from known vertices.
+
+    ``new_points`` (``n x 3``: x, y, id) are vertices the receiver has not seen
+    (closing points of case 3); ``polygons`` replace the polygons of the same
+    id, and every vertex they list leaves the polygon that held it.
+    """
 
     seq: int
-    full: bool
+    new_points: IntArray
+    polygons: tuple[PolygonRuns, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Resync:
+    """``B`` payload (flags 1): the sender's whole polygon map; replaces all held from it."""
+
+    seq: int
     polygons: tuple[PolygonRecord, ...]
 
 
@@ -135,7 +169,7 @@ class EmergedPoints:
     polygons: tuple[PolygonRecord, ...]
 
 
-Payload = VanishedPoints | EdgeSplits | BrokenBoundary | EmergedPoints
+Payload = VanishedPoints | EdgeSplits | BrokenBoundary | Resync | EmergedPoints
 
 
 def _check_count(n: int, what: str) -> None:
@@ -178,11 +212,36 @@ def edge_splits_size(n_splits: int) -> int:
     )
 
 
-def broken_boundary_size(polygons: tuple[PolygonRecord, ...]) -> int:
-    """Bytes of a ``B`` message carrying ``polygons``.
+def broken_boundary_size(n_new_points: int, polygons: tuple[PolygonRuns, ...]) -> int:
+    """Bytes of a ``B`` restructure with ``n_new_points`` new points and ``polygons``.
 
     >>> import numpy as np
-    >>> broken_boundary_size((PolygonRecord(1, 0, np.zeros((2, 3), dtype=np.int64)),))
+    >>> broken_boundary_size(1, (PolygonRuns(1, 0, np.zeros((2, 2), dtype=np.int64)),))
+    51
+    """
+    _check_count(n_new_points, "new points")
+    _check_count(len(polygons), "polygons")
+    runs = 0
+    for record in polygons:
+        n_runs = int(record.runs.shape[0])
+        _check_count(n_runs, "runs in one polygon")
+        runs += POLYGON_RECORD_HEADER_BYTES + RUN_BYTES * n_runs
+    return (
+        HEADER_BYTES
+        + SEQ_BYTES
+        + FLAGS_BYTES
+        + COUNT_BYTES
+        + POLYGON_POINT_BYTES * n_new_points
+        + COUNT_BYTES
+        + runs
+    )
+
+
+def resync_size(polygons: tuple[PolygonRecord, ...]) -> int:
+    """Bytes of a ``B`` full resync carrying ``polygons``.
+
+    >>> import numpy as np
+    >>> resync_size((PolygonRecord(1, 0, np.zeros((2, 3), dtype=np.int64)),))
     45
     """
     return HEADER_BYTES + SEQ_BYTES + FLAGS_BYTES + COUNT_BYTES + _records_bytes(polygons)
@@ -206,9 +265,11 @@ def payload_size(package_type: str, payload: Payload) -> int:
     if package_type == ES:
         assert isinstance(payload, EdgeSplits)
         return edge_splits_size(int(payload.after_ids.size))
+    if package_type == B and isinstance(payload, BrokenBoundary):
+        return broken_boundary_size(int(payload.new_points.shape[0]), payload.polygons)
     if package_type == B:
-        assert isinstance(payload, BrokenBoundary)
-        return broken_boundary_size(payload.polygons)
+        assert isinstance(payload, Resync)
+        return resync_size(payload.polygons)
     if package_type == EP:
         assert isinstance(payload, EmergedPoints)
         return emerged_points_size(payload.polygons)
@@ -275,8 +336,10 @@ class PolygonMap:
     def _neighbourhood(self, polygon: Polygon, position: int) -> tuple[int, int, int, int]:
         """Box of the vertex at ``position`` and its two neighbours."""
         n = polygon.ids.size
-        rows = polygon.xy[[(position - 1) % n, position, (position + 1) % n]]
-        return _bbox_of(rows)
+        (xa, ya), (xb, yb), (xc, yc) = polygon.xy[
+            [(position - 1) % n, position, (position + 1) % n]
+        ].tolist()
+        return min(xa, xb, xc), min(ya, yb, yc), max(xa, xb, xc), max(ya, yb, yc)
 
     def _remove(self, point_id: int) -> None:
         polygon_id = self.owner.pop(point_id, None)
@@ -288,8 +351,8 @@ class PolygonMap:
         if polygon.ids.size == 1:
             del self.polygons[polygon_id]
             return
-        polygon.ids = np.delete(polygon.ids, position)
-        polygon.xy = np.delete(polygon.xy, position, axis=0)
+        polygon.ids = np.concatenate((polygon.ids[:position], polygon.ids[position + 1 :]))
+        polygon.xy = np.concatenate((polygon.xy[:position], polygon.xy[position + 1 :]))
 
     def _define(self, record: PolygonRecord) -> None:
         old = self.polygons.pop(record.polygon_id, None)
@@ -318,17 +381,48 @@ class PolygonMap:
         elif isinstance(payload, EdgeSplits):
             for after, point in zip(payload.after_ids.tolist(), payload.points, strict=True):
                 self._insert(after, point)
-        elif isinstance(payload, BrokenBoundary):
-            if payload.full:
-                for polygon in self.polygons.values():
-                    self._mark(polygon.bbox)
-                self.polygons.clear()
-                self.owner.clear()
+        elif isinstance(payload, Resync):
+            for polygon in self.polygons.values():
+                self._mark(polygon.bbox)
+            self.polygons.clear()
+            self.owner.clear()
             for record in payload.polygons:
+                self._define(record)
+        elif isinstance(payload, BrokenBoundary):
+            # Expand every run against the polygons as they are before the package.
+            new = {int(p[2]): p for p in payload.new_points}
+            records = [
+                PolygonRecord(r.polygon_id, r.layer, self._expand(r.runs, new))
+                for r in payload.polygons
+            ]
+            for record in records:
                 self._define(record)
         else:
             for record in payload.polygons:
                 self._define(record)
+
+    def _expand(self, runs: IntArray, new: dict[int, IntArray]) -> IntArray:
+        """``(x, y, id)`` rows of the vertices the runs stand for."""
+        parts: list[IntArray] = []
+        for first, last in runs.tolist():
+            if first in new:
+                parts.append(new[first].reshape(1, 3))
+                continue
+            polygon_id = self.owner.get(first)
+            if polygon_id is None:  # cannot happen for a package stream in order
+                continue
+            polygon = self.polygons[polygon_id]
+            start = int(np.flatnonzero(polygon.ids == first)[0])
+            found = np.flatnonzero(polygon.ids == last)
+            end = int(found[0]) if found.size else start
+            positions = np.arange(start, start + (end - start) % polygon.ids.size + 1)
+            positions %= polygon.ids.size
+            parts.append(
+                np.column_stack([polygon.xy[positions], polygon.ids[positions]]).astype(np.int64)
+            )
+        if not parts:
+            return np.zeros((0, 3), dtype=np.int64)
+        return np.concatenate(parts)
 
     def _insert(self, after: int, point: IntArray) -> None:
         polygon_id = self.owner.get(after)
@@ -337,8 +431,11 @@ class PolygonMap:
         polygon = self.polygons[polygon_id]
         position = int(np.flatnonzero(polygon.ids == after)[0]) + 1
         x, y, point_id = int(point[0]), int(point[1]), int(point[2])
-        polygon.ids = np.insert(polygon.ids, position, point_id)
-        polygon.xy = np.insert(polygon.xy, position, np.array([x, y], dtype=np.int32), axis=0)
+        ids, xy = polygon.ids, polygon.xy
+        polygon.ids = np.concatenate((ids[:position], np.array([point_id]), ids[position:]))
+        polygon.xy = np.concatenate(
+            (xy[:position], np.array([[x, y]], dtype=np.int32), xy[position:])
+        )
         self.owner[point_id] = polygon_id
         self._mark(self._neighbourhood(polygon, position))
         b = polygon.bbox

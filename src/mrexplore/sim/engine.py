@@ -266,6 +266,8 @@ class Simulation:
                 step = SQRT2 if diagonal else 1.0
                 if step > robot.budget + 1e-9:
                     break
+                if self._bumps(robot, nxt):
+                    break
                 if self.occupant[nxt] >= 0:
                     blocker = self.robots[int(self.occupant[nxt])]
                     break
@@ -276,6 +278,8 @@ class Simulation:
                 robot.distance += step
                 robot.path_index += 1
                 moved = True
+            if robot.path is None:  # it bumped into a wall its map did not show
+                continue
             if robot.path_index >= len(path) - 1:
                 robot.path, robot.goal = None, None
                 robot.arrived = True
@@ -292,6 +296,27 @@ class Simulation:
                     self._detour(robot)
             elif moved:
                 robot.blocked_ticks = 0
+
+    def _bumps(self, robot: Robot, nxt: Cell) -> bool:
+        """Whether the step to ``nxt`` hits a wall (or cuts a wall corner).
+
+        A path is planned on the robot's belief, which received maps (e.g. polygon
+        approximations) can get wrong. The robot's short-range sensing stops it in
+        front of the wall: it learns the cells of the step, drops its goal and is
+        told it was ``blocked``. With exact maps this never happens.
+        """
+        row, col = robot.position
+        step_cells = [nxt]
+        if nxt[0] != row and nxt[1] != col:
+            step_cells += [(nxt[0], col), (row, nxt[1])]
+        if not any(self.truth[cell] for cell in step_cells):
+            return False
+        for cell in step_cells:
+            robot.belief[cell] = self.truth_state[cell]
+        robot.path, robot.goal = None, None
+        robot.blocked = True
+        robot.budget = 0.0
+        return True
 
     def _detour(self, robot: Robot) -> None:
         """Re-route around the robots this one can see; give up the goal if impossible.

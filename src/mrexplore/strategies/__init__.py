@@ -10,6 +10,7 @@ from mrexplore.strategies.base import (
 )
 from mrexplore.strategies.burgard import Burgard
 from mrexplore.strategies.frontier_baselines import NearestFrontier, RandomFrontier
+from mrexplore.strategies.meier_polygon import MeierPolygon
 from mrexplore.strategies.registry import (
     available_strategies,
     get_strategy,
@@ -18,7 +19,7 @@ from mrexplore.strategies.registry import (
 )
 from mrexplore.strategies.sheng_bidding import ShengBidding
 
-for _cls in (RandomFrontier, NearestFrontier, Burgard, ShengBidding):
+for _cls in (RandomFrontier, NearestFrontier, Burgard, ShengBidding, MeierPolygon):
     register(_cls)
 
 __all__ = [
@@ -26,6 +27,7 @@ __all__ = [
     "Burgard",
     "Decision",
     "FrontierStrategy",
+    "MeierPolygon",
     "NearestFrontier",
     "Param",
     "RandomFrontier",
