@@ -139,7 +139,7 @@ def main() -> None:
     parser.add_argument("--ticks", type=int, default=1500, help="length of the walk")
     parser.add_argument("--split-rates", nargs="+", type=float, default=[0.1, 1.0, 10.0])
     parser.add_argument("--resync-every", type=int, default=50, help="ticks; 0 = never")
-    parser.add_argument("--epsilon", type=float, default=1.0, help="DP tolerance, cells")
+    parser.add_argument("--epsilon", type=float, default=0.5, help="DP tolerance, cells")
     parser.add_argument("--map", type=Path, default=INTEL)
     args = parser.parse_args()
     grid = load_map(args.map, cell_size_m=0.1)
