@@ -18,8 +18,18 @@ from mrexplore.strategies.registry import (
     register,
 )
 from mrexplore.strategies.sheng_bidding import ShengBidding
+from mrexplore.strategies.simmons import Simmons
+from mrexplore.strategies.zlot_market import ZlotMarket
 
-for _cls in (RandomFrontier, NearestFrontier, Burgard, ShengBidding, MeierPolygon):
+for _cls in (
+    RandomFrontier,
+    NearestFrontier,
+    Burgard,
+    Simmons,
+    ZlotMarket,
+    ShengBidding,
+    MeierPolygon,
+):
     register(_cls)
 
 __all__ = [
@@ -33,7 +43,9 @@ __all__ = [
     "RandomFrontier",
     "RobotView",
     "ShengBidding",
+    "Simmons",
     "Strategy",
+    "ZlotMarket",
     "available_strategies",
     "get_strategy",
     "make_strategy",
