@@ -152,13 +152,13 @@ def expected_size(message: Message) -> int:
 
 
 def test_message_types_and_sizes() -> None:
-    sharing = PolygonSharing(split_rate=5.0)
+    sharing = PolygonSharing(split_rate=5.0, resync_every=50)
     sent, _ = run(sharing, 80, with_ticks=True)
     assert sent
     kinds = {m.type for m in sent}
     assert kinds <= PAPER_PACKAGE_TYPES
     assert kinds == {"ES", "B", "VP", "EP"}
-    assert sharing.message_types == frozenset({"ES", "B", "VP", "EP"})
+    assert sharing.message_types == frozenset({"ES", "B", "VP", "EP", "RQ"})
     # TPT is the coordination strategy's: the simulator must route it to the inbox.
     assert TPT not in sharing.message_types
     for message in sent:
@@ -280,6 +280,31 @@ def test_resync_restores_agreement_after_losses() -> None:
         if tick >= 30:
             assert sharing.in_sync(1, 0)
             assert canonical(sharing.received(1, 0)) == canonical(sharing.polygons(0))
+    np.testing.assert_array_equal(receiver, sharing.polygon_map(0))
+
+
+def test_a_gap_triggers_a_resync_request_and_the_resync_restores_agreement() -> None:
+    """With no periodic resync (the default), the receiver asks for one after a loss."""
+    truth = office()
+    sharing = PolygonSharing(split_rate=2.0)
+    assert sharing.resync_every == 0
+    sharing.bind(2, truth.shape)
+    sender = new_belief(truth.shape)
+    receiver = new_belief(truth.shape)
+    requests: list[Message] = []
+    pending: list[Message] = []
+    for tick, observation in enumerate(observations()[:45]):
+        sharing.on_receive_all(0, sender, pending)  # the request reaches the sender
+        messages = sharing.on_tick(tick, TEAM, [sender, receiver])
+        messages = [m for m in messages if m.sender == 0]
+        messages += sharing.on_observe(0, tick, observation, sender)
+        sharing.on_receive_all(1, receiver, [] if 10 <= tick < 12 else messages)
+        pending = [m for m in sharing.drain() if m.type == "RQ"]
+        assert all(m.sender == 1 and m.dest == 0 and m.size_bytes == 11 for m in pending)
+        requests += pending
+    assert requests, "the receiver never asked for a resync"
+    assert sharing.in_sync(1, 0)
+    assert canonical(sharing.received(1, 0)) == canonical(sharing.polygons(0))
     np.testing.assert_array_equal(receiver, sharing.polygon_map(0))
 
 

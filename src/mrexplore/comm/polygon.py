@@ -92,10 +92,13 @@ Every package carries a per-sender sequence number (uint32, 1, 2, ...). A
 receiver applies a sender's packages in sequence order; a package whose number
 is not the next one reveals a gap (lost or overtaken packages), after which the
 receiver ignores that sender's increments, keeping the polygons it had, until a
-full resync arrives. Late packages (numbers already passed) are dropped. A
-receiver never asks for anything. A sender broadcasts a full resync (``B`` with
-the resync flag, all its polygons) every ``resync_every`` ticks and whenever its
-sub-network gains robots it could not reach at the previous tick.
+full resync arrives. Late packages (numbers already passed) are dropped. On a
+gap the receiver sends the sender a resync request (``RQ``: header + the
+sequence number it saw, 11 bytes; repeated after 10 more ignored packages if the
+resync does not come). A sender broadcasts a full resync (``B`` with the resync
+flag, all its polygons) at the tick after a request, whenever its sub-network
+gains robots it could not reach at the previous tick, and, if ``resync_every``
+> 0, periodically.
 
 Receivers
 =========
@@ -122,7 +125,7 @@ SR     ``split_rate``        1.0      splits/s  upper bound on Douglas-Peucker e
 \-     ``epsilon``           0.5      cells     an edge is split only while a contour point
                                                 between its vertices lies farther than this
                                                 (the paper splits until the error is zero)
-\-     ``resync_every``      50       ticks     period of full resyncs; 0 = only when the
+\-     ``resync_every``      0        ticks     period of full resyncs; 0 = only when the
                                                 sub-network gains robots
 =====  ====================  =======  ========  =============================================
 
@@ -160,7 +163,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BROADCAST
+from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES, SEQ_BYTES
 from mrexplore.comm.messages import Message
 from mrexplore.comm.polygon_kernels import (
     edge_deviation,
@@ -203,6 +206,11 @@ LAYERS = (OBSERVED_LAYER, OBSTACLE_LAYER)
 BUDGET_SLACK = 1e-9
 """Rounding slack of the split budget (ten times 0.1 splits make a split)."""
 
+RESYNC_REQUEST = "RQ"
+"""A receiver that detected a gap asks the sender for a full resync (our addition)."""
+REQUEST_AGAIN_AFTER = 10
+"""Packages ignored while out of sync before a receiver repeats its request."""
+
 
 @dataclass
 class _Tracked:
@@ -240,6 +248,7 @@ class _Inbound:
     map: PolygonMap = field(default_factory=PolygonMap)
     last_seq: int = 0
     in_sync: bool = True
+    ignored_since_request: int = 0
 
 
 @dataclass
@@ -277,6 +286,7 @@ class _RobotState:
         self.next_resync: int | None = None
         self.members: frozenset[int] | None = None
         self.inbound: dict[int, _Inbound] = {}
+        self.resync_requested = False
 
     def new_point_id(self) -> int:
         self.next_point_id += 1
@@ -309,14 +319,14 @@ class PolygonSharing(MapSharing):
     """
 
     id = "polygon"
-    message_types = MAP_PACKAGE_TYPES
+    message_types = MAP_PACKAGE_TYPES | {RESYNC_REQUEST}
 
     def __init__(
         self,
         split_rate: float = 1.0,
         ticks_per_second: float = 1.0,
         epsilon: float = 0.5,
-        resync_every: int = 50,
+        resync_every: int = 0,
     ) -> None:
         if not (isinstance(split_rate, int | float) and split_rate >= 0):
             raise MrexploreInputError(f"split_rate must be >= 0 splits/s, got {split_rate!r}")
@@ -410,7 +420,8 @@ class PolygonSharing(MapSharing):
             messages.extend(self._package(robot, state, tick, changes))
             gained = state.members is not None and bool(members - state.members)
             state.members = members
-            if gained or self._resync_due(state, tick):
+            if gained or state.resync_requested or self._resync_due(state, tick):
+                state.resync_requested = False
                 messages.append(self._resync(robot, state, tick))
         return messages
 
@@ -688,6 +699,8 @@ class PolygonSharing(MapSharing):
         value changed; cells ``robot`` observed itself are never written.
         """
         state = self._state(robot)
+        if any(m.type == RESYNC_REQUEST for m in messages):
+            state.resync_requested = True  # answered by a full resync at the next tick
         ours = [m for m in messages if m.type in MAP_PACKAGE_TYPES and m.sender != robot]
         for message in sorted(ours, key=lambda m: (m.sender, m.payload.seq)):
             inbound = state.inbound.get(message.sender)
@@ -704,6 +717,18 @@ class PolygonSharing(MapSharing):
                 inbound.map.apply(payload)
             else:
                 self.gaps_detected += int(inbound.in_sync)
+                if inbound.in_sync or inbound.ignored_since_request >= REQUEST_AGAIN_AFTER:
+                    inbound.ignored_since_request = 0
+                    self.outbox.append(
+                        Message(
+                            RESYNC_REQUEST,
+                            robot,
+                            message.sender,
+                            HEADER_BYTES + SEQ_BYTES,
+                            seq,
+                        )
+                    )
+                inbound.ignored_since_request += 1
                 inbound.in_sync = False
             inbound.last_seq = seq
         box: Box | None = None
