@@ -10,6 +10,8 @@ from mrexplore.strategies.base import (
 )
 from mrexplore.strategies.burgard import Burgard
 from mrexplore.strategies.frontier_baselines import NearestFrontier, RandomFrontier
+from mrexplore.strategies.kme import Kme
+from mrexplore.strategies.market_occupancy import MarketOccupancy
 from mrexplore.strategies.meier_polygon import MeierPolygon
 from mrexplore.strategies.registry import (
     available_strategies,
@@ -19,6 +21,7 @@ from mrexplore.strategies.registry import (
 )
 from mrexplore.strategies.sheng_bidding import ShengBidding
 from mrexplore.strategies.simmons import Simmons
+from mrexplore.strategies.vazquez_network import VazquezNetwork
 from mrexplore.strategies.zlot_market import ZlotMarket
 
 for _cls in (
@@ -28,6 +31,9 @@ for _cls in (
     Simmons,
     ZlotMarket,
     ShengBidding,
+    VazquezNetwork,
+    Kme,
+    MarketOccupancy,
     MeierPolygon,
 ):
     register(_cls)
@@ -37,6 +43,8 @@ __all__ = [
     "Burgard",
     "Decision",
     "FrontierStrategy",
+    "Kme",
+    "MarketOccupancy",
     "MeierPolygon",
     "NearestFrontier",
     "Param",
@@ -45,6 +53,7 @@ __all__ = [
     "ShengBidding",
     "Simmons",
     "Strategy",
+    "VazquezNetwork",
     "ZlotMarket",
     "available_strategies",
     "get_strategy",

@@ -1,0 +1,542 @@
+"""Decentralised market-based exploration with a frontier occupancy function.
+
+"Decentralised market-based strategy for cooperative multi-robot exploration"
+(plain text, without the authors' names, in
+``../shared/papers/decentralised-market-frontier-occupancy.txt``), §III.B,
+eqs. (1)-(8) and Algorithm 1; frontier points from the RRT-based detector of
+H. Umari, S. Mukhopadhyay, "Autonomous robotic exploration based on multiple
+rapidly-exploring randomized trees", IROS 2017
+(:mod:`mrexplore.planning.rrt_frontiers`). Doc page:
+``docs/strategies/market-occupancy.md``.
+
+Every robot ``i`` weighs every frontier point ``q_j`` of a list ``y`` (eqs. 1-2):
+
+    C_ij = || p_i - q_j ||                                  Euclidean cost     (3)
+    U_ij = lambda_u * c_j                                   utility            (4)
+    F_ij = lambda_f * exp(-||q_j - q_a||^2 / (2 sigma^2))   frontier occupancy (5)
+    W_ij = C_ij - U_ij + F_ij                                                   (6)
+
+with ``c_j`` the unknown cells of robot ``i``'s map within ``r`` of ``q_j``,
+``sigma = r_f / 3`` (``3 sigma = r_f``), and ``F_ij`` non-zero only when ``q_j``
+lies within ``r_f`` of ``q_a``, the point assigned to another robot ``a``
+(summed over the other robots). The weights of all robots form ``W`` (N x M,
+eq. 7), and every robot solves the same assignment problem (eq. 8)
+
+    min sum_i sum_j W_ij X_ij
+
+with the Hungarian algorithm (:func:`scipy.optimize.linear_sum_assignment`),
+then takes its own row's point (Algorithm 1, lines 5-7).
+
+Event-based rounds (§III.B, Fig. 4): when a robot reaches its goal it broadcasts
+a ``weight_request`` carrying its frontier list ``y``, and its own row. Every
+robot that hears the request computes its row over ``y`` and broadcasts it
+(Algorithm 1, lines 1-4). A robot decides a round as soon as it holds the rows
+of every robot of its sub-network, or ``round_timeout`` ticks after it heard of
+the round; the matrix then holds the rows that arrived in time.
+
+Parameters:
+
+=============================  ========  ========  ============  =============================
+name                           symbol    default   unit          meaning
+=============================  ========  ========  ============  =============================
+``lambda_u``                   lambda_u  0.1       cells / cell  weight of one unknown cell
+                                                                 in U (eq. 4), in cells of cost
+``lambda_f``                   lambda_f  0.0       cells         peak of F (eq. 5); 0 = r_f
+``r``                          r         0.0       cells         utility radius (eq. 4);
+                                                                 0 = the sensor range
+``r_f``                        r_f       0.0       cells         occupancy radius, 3 sigma
+                                                                 (eq. 5); 0 = 2 x sensor range
+``frontier_detector``          -         grid      -             ``grid``: frontier cluster
+                                                                 representatives; ``rrt``: the
+                                                                 RRT detector (Umari 2017)
+``rrt_eta``                    eta       0.0       cells         RRT growth step; 0 = sensor
+                                                                 range
+``rrt_samples``                -         20        samples/tick  samples per tree per tick
+``rrt_vertex_spacing``         -         1.0       cells         a free RRT edge shorter than
+                                                                 this adds no vertex
+``rrt_burst``                  -         50        batches       extra RRT batches when a goal
+                                                                 is needed and no reachable
+                                                                 point is stored
+``rrt_cluster_radius``         -         0.0       cells         merge stored RRT points closer
+                                                                 than this; 0 = sensor range / 2
+``round_timeout``              -         0         ticks         decide with the rows at hand
+                                                                 after this; 0 = 2 x latency x
+                                                                 hops + 1
+``request_timeout``            -         0         ticks         re-send a request when a round
+                                                                 gave no goal; 0 = 2 x
+                                                                 round_timeout + 2
+``replan_*``                   -                                 see :data:`REPLAN_PARAMS`
+                                                                 (``replan_on_target_explored``
+                                                                 is False here: an event is
+                                                                 reaching the goal)
+=============================  ========  ========  ============  =============================
+
+Messages (sizes: header of :mod:`mrexplore.comm.bytes` plus the payload below):
+
+==================  ================================================  ================
+type                payload                                           bytes
+==================  ================================================  ================
+``weight_request``  requester uint16, round uint16, M uint16,         7 + 6 + 8 M
+                    M frontier points (x float32, y float32)
+``weights``         robot uint16, requester uint16, round uint16,     7 + 6 + 4 M
+                    M weights float32
+==================  ================================================  ================
+
+Both are broadcasts to the sub-network. A frontier point is two float32 (the
+paper's points are continuous ``x, y, z``; in 2-D the ``z`` is dropped), as
+:data:`FRONTIER_POINT_BYTES`; weights travel as float32, and each robot uses
+its own row rounded to float32 too, so every robot solves the same matrix.
+
+Interpretations (where the paper is silent):
+
+* **lambda_u, lambda_f, r, r_f** are "experimentally determined" in the paper,
+  without values. Defaults: ``r`` = the sensor range (the robot senses the
+  unknown cells around the point, as the paper assumes), ``r_f`` = twice the
+  sensor range (two robots at points closer than that sense overlapping
+  disks), ``lambda_f = r_f`` (a point next to another robot's point costs as
+  much as ``r_f`` cells more travel), ``lambda_u = 0.1`` (ten unknown cells
+  are worth one cell of travel). We chose them by a small comparison of
+  T99 on generated maps, documented in the doc page.
+* **Several other robots.** ``F_ij`` sums the Gaussian over every other robot's
+  assigned point within ``r_f``. The assigned points are those of the last
+  round this robot decided.
+* **Unreachable points.** A point that robot ``i`` cannot reach over cells it
+  knows to be free, or its own cell, gets the weight :data:`INFEASIBLE`
+  (``1e6``) so the assignment avoids it; a robot assigned such a point gets no
+  goal from the round.
+* **Fewer points than robots.** The Hungarian algorithm assigns ``min(N, M)``
+  robots; each robot left over takes the point of its row with the least
+  weight (robots then share points).
+* **Who is re-assigned.** Every robot that answers a round gets the point the
+  assignment gives it (Algorithm 1 runs on every robot). Rounds that end in the
+  same tick are applied in the order of (tick of the request, requester id), so
+  robots that saw the same rows agree.
+* **Events.** A round starts when a robot reaches its goal (§III.B), or has no
+  goal, or was blocked (our simulator's events); ``replan_on_target_explored``
+  is off by default, so robots keep going to points they see explored on the way.
+* **Frontier points.** ``grid``: the representative (the cell nearest the
+  centroid) of every 8-connected cluster of the frontier cells the requester
+  can reach over cells it knows to be free (a frontier cell seen across a
+  corner can be cut off from known-free space; a point there would be
+  infeasible for every robot and the round would give nobody a goal).
+  ``rrt``: the requester's RRT detector store (each robot grows a global and a
+  local tree every tick, see :mod:`mrexplore.planning.rrt_frontiers`), keeping
+  the points it can reach; when it has none, the requester first grows its
+  trees by up to ``rrt_burst`` more batches (the paper's detector runs much
+  faster than the robots decide); if the trees still hold no reachable point
+  while the grid shows reachable frontier cells, that request lists the grid's
+  points instead (RRTs pass narrow doors rarely; without this fallback a lone
+  robot on room-64-64-8 idled until the run stalled at 86% explored).
+* **Limited communication.** A robot waits for the rows of the robots in its
+  sub-network when it heard the request; a row that is lost or arrives late is
+  left out after ``round_timeout``. Robots that hold different sets of rows may
+  solve different matrices and pick the same point: the method degrades into
+  less coordinated greedy choices, but never waits for ever.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+from scipy.optimize import linear_sum_assignment
+
+from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES
+from mrexplore.comm.messages import Message
+from mrexplore.errors import ScenarioError
+from mrexplore.grid.occupancy import BeliefGrid
+from mrexplore.planning import (
+    distance_field,
+    extract_path,
+    frontier_clusters,
+    frontier_mask,
+    information_gain,
+)
+from mrexplore.planning.rrt_frontiers import RrtFrontierDetector
+from mrexplore.strategies.base import (
+    REPLAN_PARAMS,
+    Cell,
+    Decision,
+    FrontierStrategy,
+    Param,
+    RobotView,
+    passable,
+)
+from mrexplore.strategies.kme import hops_from
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+# ---------------------------------------------------------------- byte model
+WEIGHT_REQUEST = "weight_request"
+WEIGHTS = "weights"
+FRONTIER_POINT_BYTES = 8
+"""One frontier point: x float32, y float32 (cells)."""
+WEIGHT_BYTES = 4
+"""One weight W_ij: float32."""
+ROUND_BYTES = 6
+"""Round header of both messages: three uint16 (robot / requester, round, count)."""
+
+INFEASIBLE = 1e6
+"""Weight of a point a robot cannot reach (a float32 holds it exactly)."""
+
+DETECTORS = ("grid", "rrt")
+
+
+def request_size(n_points: int) -> int:
+    """Bytes of a ``weight_request`` carrying ``n_points`` frontier points.
+
+    >>> request_size(10)
+    93
+    """
+    return HEADER_BYTES + ROUND_BYTES + FRONTIER_POINT_BYTES * n_points
+
+
+def weights_size(n_points: int) -> int:
+    """Bytes of a ``weights`` message with one row of ``n_points`` weights.
+
+    >>> weights_size(10)
+    53
+    """
+    return HEADER_BYTES + ROUND_BYTES + WEIGHT_BYTES * n_points
+
+
+RoundKey = tuple[int, int, int]
+"""(tick the request was sent, requester id, requester's round number)."""
+
+
+@dataclass(frozen=True, slots=True)
+class RequestPayload:
+    """A round's opening: the requester's frontier list ``y`` (eqs. 1-2)."""
+
+    key: RoundKey
+    points: npt.NDArray[np.int64]
+
+
+@dataclass(frozen=True, slots=True)
+class WeightsPayload:
+    """One robot's row ``W_i.`` over the round's frontier list."""
+
+    key: RoundKey
+    robot: int
+    row: npt.NDArray[np.float32]
+
+
+# ---------------------------------------------------------------- eqs. 3-6
+def cost(position: Cell, points: IntArray) -> FloatArray:
+    """Eq. (3): ``C_ij``, the Euclidean distance (cells) from the robot to each point.
+
+    >>> cost((0, 0), np.array([[3, 4], [0, 2]])).tolist()
+    [5.0, 2.0]
+    """
+    return np.asarray(np.hypot(points[:, 0] - position[0], points[:, 1] - position[1]))
+
+
+def utility(belief: BeliefGrid, points: IntArray, radius: float, lambda_u: float) -> FloatArray:
+    """Eq. (4): ``U_ij = lambda_u * c``, ``c`` = unknown cells within ``radius`` of each point.
+
+    >>> b = np.full((3, 3), -1, dtype=np.int8); b[1, 1] = 0
+    >>> utility(b, np.array([[1, 1]]), 1.0, 0.5).tolist()
+    [2.0]
+    """
+    if points.shape[0] == 0:
+        return np.zeros(0)
+    return np.asarray(lambda_u * information_gain(belief, points, radius), dtype=np.float64)
+
+
+def occupancy(
+    points: IntArray, others: Sequence[Cell] | IntArray, r_f: float, lambda_f: float
+) -> FloatArray:
+    """Eq. (5): ``F_ij``, a Gaussian (``3 sigma = r_f``) around other robots' assigned points.
+
+    Zero beyond ``r_f`` of a point ``q_a``; summed over the other robots.
+
+    >>> occupancy(np.array([[0, 0], [0, 3], [0, 7]]), [(0, 0)], 6.0, 2.0).round(4).tolist()
+    [2.0, 0.6493, 0.0]
+    """
+    out = np.zeros(points.shape[0])
+    others_arr = np.asarray(others, dtype=np.float64).reshape(-1, 2)
+    if others_arr.shape[0] == 0 or points.shape[0] == 0 or r_f <= 0:
+        return out
+    sigma = r_f / 3.0
+    d2 = (points[:, None, 0] - others_arr[None, :, 0]) ** 2
+    d2 += (points[:, None, 1] - others_arr[None, :, 1]) ** 2
+    gauss = np.exp(-d2 / (2.0 * sigma * sigma))
+    gauss[d2 > r_f * r_f] = 0.0
+    return np.asarray(lambda_f * gauss.sum(axis=1))
+
+
+def weight(c: FloatArray, u: FloatArray, f: FloatArray) -> FloatArray:
+    """Eq. (6): ``W_ij = C_ij - U_ij + F_ij``.
+
+    >>> weight(np.array([5.0]), np.array([2.0]), np.array([0.5])).tolist()
+    [3.5]
+    """
+    return np.asarray(c - u + f)
+
+
+def assign(w: FloatArray) -> IntArray:
+    """Eq. (8): the point (column) of each robot (row) minimising ``sum W_ij X_ij``.
+
+    Robots left over when there are fewer points than robots take their row's
+    least weight (first among ties).
+
+    >>> assign(np.array([[1.0, 2.0], [1.5, 9.0], [0.0, 5.0]])).tolist()
+    [1, 0, 0]
+    """
+    n, m = w.shape
+    out = np.full(n, -1, dtype=np.int64)
+    if m == 0:
+        return out
+    rows, cols = linear_sum_assignment(w)
+    out[rows] = cols
+    left = out < 0
+    out[left] = np.argmin(w[left], axis=1)
+    return out
+
+
+# ---------------------------------------------------------------- the strategy
+@dataclass
+class Round:
+    """One negotiation as seen by one robot."""
+
+    key: RoundKey
+    opened: int
+    expected: frozenset[int]
+    points: IntArray | None = None
+    rows: dict[int, npt.NDArray[np.float32]] = field(default_factory=dict)
+
+
+class MarketOccupancy(FrontierStrategy):
+    """Decentralised market: weights with frontier occupancy, Hungarian on every robot."""
+
+    id = "market-occupancy"
+    summary = "decentralised market: cost - utility + frontier occupancy, Hungarian on every robot"
+    citation = (
+        "Decentralised market-based strategy for cooperative multi-robot exploration "
+        "(§III, eqs. 1-8, Algorithm 1); frontiers: H. Umari, S. Mukhopadhyay, IROS 2017"
+    )
+    params: ClassVar[Mapping[str, Param]] = {
+        "lambda_u": Param(0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u"),
+        "lambda_f": Param(0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f"),
+        "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r"),
+        "r_f": Param(0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f"),
+        "frontier_detector": Param("grid", "", "frontier points: grid | rrt"),
+        "rrt_eta": Param(0.0, "cells", "RRT growth step; 0 = sensor range", "eta"),
+        "rrt_samples": Param(20, "samples/tick", "RRT samples per tree per tick"),
+        "rrt_vertex_spacing": Param(
+            1.0, "cells", "a free RRT edge shorter than this adds no vertex"
+        ),
+        "rrt_burst": Param(50, "batches", "extra RRT batches when a goal is needed and no point"),
+        "rrt_cluster_radius": Param(0.0, "cells", "merge RRT points closer; 0 = sensor range/2"),
+        "round_timeout": Param(0, "ticks", "decide with the rows at hand after this; 0 = auto"),
+        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto"),
+        **REPLAN_PARAMS,
+        "replan_on_target_explored": Param(
+            False, "", "re-plan when the goal is no longer a frontier cell"
+        ),
+    }
+
+    def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        if self.p["frontier_detector"] not in DETECTORS:
+            raise ScenarioError(
+                f"--set frontier_detector={self.p['frontier_detector']}: "
+                f"choose one of {', '.join(DETECTORS)}"
+            )
+        self.rounds: dict[RoundKey, Round] = {}
+        self.assigned: dict[int, Cell] = {}  # q_a: each robot's point, from decided rounds
+        self.round_number = 0
+        self.own_round: RoundKey | None = None
+        self.requested_at = -1
+        self.detector: RrtFrontierDetector | None = None
+        self.rounds_decided = 0
+        self.grid_fallbacks = 0  # requests where the RRT found no point and the grid did
+
+    # ------------------------------------------------------------ helpers
+    def _round_timeout(self, view: RobotView) -> int:
+        given = int(self.p["round_timeout"])
+        if given > 0:
+            return given
+        return 2 * view.comm_latency * hops_from(self.robot_id, view.subnetwork, view.links) + 1
+
+    def _request_timeout(self, view: RobotView) -> int:
+        given = int(self.p["request_timeout"])
+        return given if given > 0 else 2 * self._round_timeout(view) + 2
+
+    def frontier_points(self, view: RobotView) -> IntArray:
+        """The frontier list ``y`` (eqs. 1-2) of this robot's map, ``(M, 2)`` cells.
+
+        Only points this robot can reach over cells it knows to be free: a point
+        seen across a corner may be cut off from known-free space, and no robot
+        could be sent there.
+        """
+        frontier = frontier_mask(view.belief)
+        reach = distance_field(passable(view.belief), view.position, targets=frontier)
+        reachable = frontier & np.isfinite(reach)
+        if self.detector is not None:
+            points = self.detector.points(view.belief)
+            for _ in range(int(self.p["rrt_burst"])):
+                if reachable[points[:, 0], points[:, 1]].any():
+                    break
+                self.detector.step(view.belief, view.position, view.rng)
+                points = self.detector.points(view.belief)
+            points = points[reachable[points[:, 0], points[:, 1]]]
+            if points.shape[0] or not reachable.any():
+                return points
+            self.grid_fallbacks += 1  # the trees missed every frontier: use the grid's
+        clusters = frontier_clusters(reachable)
+        return np.array([c.representative for c in clusters], dtype=np.int64).reshape(-1, 2)
+
+    def row(self, view: RobotView, points: IntArray) -> npt.NDArray[np.float32]:
+        """Eqs. (3)-(6): this robot's weights over ``points``, as sent (float32)."""
+        r = float(self.p["r"]) or view.sensor_range
+        r_f = float(self.p["r_f"]) or 2.0 * view.sensor_range
+        lambda_f = float(self.p["lambda_f"]) or r_f
+        others = [q for robot, q in sorted(self.assigned.items()) if robot != self.robot_id]
+        w = weight(
+            cost(view.position, points),
+            utility(view.belief, points, r, float(self.p["lambda_u"])),
+            occupancy(points, others, r_f, lambda_f),
+        )
+        if points.shape[0]:
+            targets = np.zeros(view.belief.shape, dtype=bool)
+            targets[points[:, 0], points[:, 1]] = True
+            dist = distance_field(passable(view.belief), view.position, targets=targets)
+            reach = dist[points[:, 0], points[:, 1]]
+            w = np.where(np.isfinite(reach) & (reach > 0), w, INFEASIBLE)
+        return np.asarray(np.minimum(w, INFEASIBLE), dtype=np.float32)
+
+    def _weights_message(self, key: RoundKey, row: npt.NDArray[np.float32]) -> Message:
+        payload = WeightsPayload(key, self.robot_id, row)
+        return Message(WEIGHTS, self.robot_id, BROADCAST, weights_size(row.size), payload)
+
+    # ------------------------------------------------------------ decide
+    def decide(self, view: RobotView) -> Decision:
+        if self.p["frontier_detector"] == "rrt":
+            if self.detector is None:
+                self.detector = RrtFrontierDetector(
+                    eta=float(self.p["rrt_eta"]) or view.sensor_range,
+                    samples=int(self.p["rrt_samples"]),
+                    cluster_radius=float(self.p["rrt_cluster_radius"]) or view.sensor_range / 2,
+                    vertex_spacing=float(self.p["rrt_vertex_spacing"]),
+                )
+            self.detector.step(view.belief, view.position, view.rng)
+        decision = Decision()
+        for message in view.inbox:
+            payload = message.payload
+            if message.type == WEIGHT_REQUEST and isinstance(payload, RequestPayload):
+                known = self.rounds.get(payload.key)
+                if known is not None and known.points is not None:
+                    continue
+                state = Round(payload.key, view.tick, view.subnetwork) if known is None else known
+                state.points = payload.points
+                own = self.row(view, payload.points)  # Algorithm 1, lines 1-3
+                state.rows[self.robot_id] = own
+                self.rounds[payload.key] = state
+                decision.messages.append(self._weights_message(payload.key, own))
+            elif message.type == WEIGHTS and isinstance(payload, WeightsPayload):
+                pending = self.rounds.get(payload.key)
+                if pending is None:  # the row came before the request: keep it
+                    pending = Round(payload.key, view.tick, view.subnetwork)
+                    self.rounds[payload.key] = pending
+                pending.rows[payload.robot] = payload.row  # line 4
+
+        if self.needs_plan(view) and self.own_round is None:
+            may_request = self.requested_at < 0 or (
+                view.tick - self.requested_at >= self._request_timeout(view)
+            )
+            if may_request:
+                self._open_round(view, decision)
+        goal = self._decide_rounds(view)
+        if goal is not None:
+            followed = self._follow(view, goal)
+            decision.goal, decision.path = followed.goal, followed.path
+        return decision
+
+    def _open_round(self, view: RobotView, decision: Decision) -> None:
+        """Event: this robot needs a goal; send ``y`` and its row (§III.B, Fig. 4)."""
+        self.requested_at = view.tick
+        points = self.frontier_points(view)
+        if points.shape[0] == 0:
+            return
+        self.round_number = (self.round_number + 1) % 0x10000
+        key: RoundKey = (view.tick, self.robot_id, self.round_number)
+        state = Round(key, view.tick, view.subnetwork, points)
+        state.rows[self.robot_id] = self.row(view, points)
+        self.rounds[key] = state
+        self.own_round = key
+        if len(view.subnetwork) > 1:
+            payload = RequestPayload(key, points)
+            decision.messages.append(
+                Message(
+                    WEIGHT_REQUEST, self.robot_id, BROADCAST, request_size(len(points)), payload
+                )
+            )
+            decision.messages.append(self._weights_message(key, state.rows[self.robot_id]))
+
+    def _decide_rounds(self, view: RobotView) -> Cell | None:
+        """Algorithm 1, lines 5-7, for every round that is complete or timed out."""
+        goal: Cell | None = None
+        if not self.rounds:
+            return goal
+        timeout = self._round_timeout(view)
+        for key in sorted(self.rounds):
+            state = self.rounds[key]
+            waiting = state.expected & view.subnetwork
+            complete = state.points is not None and waiting <= set(state.rows)
+            if not complete and view.tick - state.opened < timeout:
+                continue
+            del self.rounds[key]
+            if key == self.own_round:
+                self.own_round = None
+            if state.points is None or self.robot_id not in state.rows:
+                continue  # the request never came: nothing to decide
+            robots = sorted(state.rows)
+            w = np.stack([state.rows[r].astype(np.float64) for r in robots])
+            columns = assign(w)  # line 6
+            self.rounds_decided += 1
+            for index, robot in enumerate(robots):
+                if w[index, columns[index]] < INFEASIBLE:
+                    q = state.points[columns[index]]
+                    self.assigned[robot] = (int(q[0]), int(q[1]))
+            mine = robots.index(self.robot_id)
+            if w[mine, columns[mine]] < INFEASIBLE:  # line 7
+                q = state.points[columns[mine]]
+                goal = (int(q[0]), int(q[1]))
+        return goal
+
+    def _follow(self, view: RobotView, goal: Cell) -> Decision:
+        """Head for an assigned point, planning over this robot's known-free cells."""
+        if goal == view.goal:
+            return Decision()
+        if goal == view.position:
+            return Decision()
+        only_goal = np.zeros(view.belief.shape, dtype=bool)
+        only_goal[goal] = True
+        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
+        if not np.isfinite(dist[goal]):
+            return Decision()
+        self.last_plan_tick = view.tick
+        self.requested_at = -1
+        return Decision(goal=goal, path=extract_path(dist, goal))
+
+
+__all__ = [
+    "FRONTIER_POINT_BYTES",
+    "INFEASIBLE",
+    "WEIGHTS",
+    "WEIGHT_BYTES",
+    "WEIGHT_REQUEST",
+    "MarketOccupancy",
+    "assign",
+    "cost",
+    "occupancy",
+    "request_size",
+    "utility",
+    "weight",
+    "weights_size",
+]
