@@ -183,6 +183,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -216,7 +217,6 @@ from mrexplore.strategies.base import (
     reachable_frontier_cells,
 )
 
-import os
 LEADER_WAITS = os.environ.get("VZ_LW", "0") == "1"
 POSITION = "position"
 """Message type of the periodic position broadcast."""
