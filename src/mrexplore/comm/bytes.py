@@ -28,6 +28,8 @@ bid                    robot uint16, row uint16, col uint16,          10
 sequence-number entry  robot uint16, seq uint32                        6
 polygon point          x int32, y int32, id uint32                     12
 laser scan             n_beams x range uint16                          2 n
+frontier point         x float32, y float32                            8
+weight W_ij            float32                                         4
 =====================  ===========================================  =======
 
 Fields of the polygon packages (``polygon`` sharing, Meier et al. §3; layouts in
@@ -51,6 +53,8 @@ BID_BYTES = 10
 SEQUENCE_ENTRY_BYTES = 6
 POLYGON_POINT_BYTES = 12
 SCAN_BEAM_BYTES = 2
+FRONTIER_POINT_BYTES = 8
+WEIGHT_BYTES = 4
 
 SEQ_BYTES = 4
 COUNT_BYTES = 2

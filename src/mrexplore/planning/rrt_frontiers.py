@@ -15,14 +15,14 @@ iteration draws a sample uniformly over the whole map, finds the nearest vertex
 * it meets a known obstacle first: the sample is discarded;
 * every cell on it is known free: ``x_new`` joins the tree.
 
-Two kinds of tree (Umari §III): a *global* tree rooted at the robot's start,
-which is never reset, and a *local* tree rooted at the robot, which is reset to
-the robot's current position whenever it detects a frontier point (so it keeps
-finding frontiers near the robot). Detected points are kept in a store and
-filtered (Umari's filter node): a point is dropped when it stops being a
-frontier cell (a free cell with an unknown 4-neighbour), and points closer than ``cluster_radius``
-to an older kept point are merged into it (greedy, in place of Umari's mean
-shift clustering).
+Two kinds of tree (as in Umari's system): a *global* tree rooted at the
+robot's start, which is never reset, and a *local* tree rooted at the robot,
+which is reset to the robot's current position whenever it detects a frontier
+point (so it keeps finding frontiers near the robot). Detected points are kept
+in a store and filtered (Umari's filter node): a point is dropped when it stops
+being a frontier cell (a free cell with an unknown 4-neighbour), and points
+closer than ``cluster_radius`` to an older kept point are merged into it
+(greedy, in place of Umari's mean-shift clustering).
 
 Grid specifics (our interpretations):
 
@@ -41,11 +41,11 @@ Grid specifics (our interpretations):
   :meth:`RrtFrontierDetector.step`, each searching its nearest vertex among the
   vertices present at the start of the batch (one vectorised distance matrix).
   The local tree is reset after a batch that detected a frontier.
-* A free edge shorter than ``eta / 2`` (a sample that fell next to a vertex
-  already in the tree) is walked, and may detect a frontier, but adds no
-  vertex: the trees stop densifying over explored space, so their size, and
-  the nearest-vertex search, stay proportional to the free area over
-  ``eta**2``. The global tree also stops adding vertices after
+* A free edge shorter than ``vertex_spacing`` (a sample that fell next to a
+  vertex already in the tree) is walked, and may detect a frontier, but adds
+  no vertex: the trees stop densifying over explored space, so their size, and
+  the cost of the nearest-vertex search, stay bounded by the free area over
+  ``vertex_spacing**2``. The global tree also stops adding vertices after
   ``max_vertices``.
 
 Units: cells. Randomness: only the generator passed in (the robot's own).

@@ -144,7 +144,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import linear_sum_assignment
 
-from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES
+from mrexplore.comm.bytes import BROADCAST, FRONTIER_POINT_BYTES, HEADER_BYTES, WEIGHT_BYTES
 from mrexplore.comm.messages import Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
@@ -173,10 +173,6 @@ IntArray = npt.NDArray[np.int64]
 # ---------------------------------------------------------------- byte model
 WEIGHT_REQUEST = "weight_request"
 WEIGHTS = "weights"
-FRONTIER_POINT_BYTES = 8
-"""One frontier point: x float32, y float32 (cells)."""
-WEIGHT_BYTES = 4
-"""One weight W_ij: float32."""
 ROUND_BYTES = 6
 """Round header of both messages: three uint16 (robot / requester, round, count)."""
 
