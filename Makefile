@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: install demo test lint typecheck bench clean
+.PHONY: install demo test test-slow lint typecheck bench clean
 
 install: $(STAMP)
 
@@ -26,6 +26,10 @@ typecheck: install
 
 test: lint typecheck
 	OMP_NUM_THREADS=1 $(BIN)/pytest -q
+
+# The slow matrices and full reproductions (about an hour on two cores).
+test-slow: install
+	OMP_NUM_THREADS=1 $(BIN)/pytest -q -m slow -n auto
 
 bench: install
 	$(BIN)/python benchmarks/bench_runs.py

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
@@ -287,45 +285,3 @@ def test_limited_comm_a_quarter_of_the_map_completes() -> None:
     )
     assert record.status == "complete"
     assert record.result()["subnetworks_max"] > 1  # the team did split
-
-
-def _matrix_maps(shared_maps: Path) -> list[tuple[str, dict[str, Any]]]:
-    return [
-        ("sheng40", {"map": "sheng40"}),
-        ("office", {"map": "office", "size": (100, 100)}),
-        ("cityblock", {"map": "cityblock", "size": (100, 100)}),
-        ("unstructured", {"map": "unstructured", "size": (100, 100)}),
-        ("room-64-64-8", {"map": str(shared_maps / "movingai" / "room-64-64-8.map")}),
-        (
-            "intel",
-            {
-                "map": str(shared_maps / "ros" / "intel.yaml"),
-                "cell_size": 0.2,
-                "sensor_range": "3m",
-            },
-        ),
-    ]
-
-
-@pytest.mark.slow
-def test_full_matrix_completes(shared_maps: Path) -> None:
-    """1, 3 and 8 robots on six maps, unlimited communication, then a quarter-width range."""
-    failures = []
-    for name, kwargs in _matrix_maps(shared_maps):
-        for robots in (1, 3, 8):
-            record = simulate(Scenario(robots=robots, strategy="kme", seed=1, **kwargs))
-            if record.status != "complete":
-                failures.append(f"{name} {robots} robots: {record.status}")
-            width = record.world.grid.shape[1]
-            limited = simulate(
-                Scenario(
-                    robots=robots,
-                    strategy="kme",
-                    seed=1,
-                    comm_range=width / 4,
-                    **kwargs,
-                )
-            )
-            if limited.status != "complete":
-                failures.append(f"{name} {robots} robots, range {width / 4}: {limited.status}")
-    assert not failures, failures

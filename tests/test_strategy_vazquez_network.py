@@ -9,7 +9,6 @@ connected).
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -47,9 +46,6 @@ from mrexplore.strategies.vazquez_network import (
 )
 
 register(VazquezNetwork)
-
-REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO / ".." / "shared" / "maps"
 
 
 # ----------------------------------------------------------------- §3.1.2 equations
@@ -440,6 +436,25 @@ def test_quick_runs_complete_with_unlimited_range(
     assert record.bytes_by_type.get("target", 0) > 0
 
 
+def test_d3_defaults_to_the_runs_communication_range() -> None:
+    def positions(params: dict[str, float], comm_range: float) -> np.ndarray:
+        scenario = Scenario(
+            map="sheng40",
+            robots=3,
+            strategy="vazquez-network",
+            seed=2,
+            max_ticks=150,
+            comm_range=comm_range,
+            params=params,
+        )
+        return np.asarray(simulate(scenario).trace_arrays()["positions"])
+
+    default = positions({}, 12.0)
+    assert np.array_equal(default, positions({"comm_range": 12.0}, 12.0))
+    # An assumed range other than the radio's changes the behaviour.
+    assert not np.array_equal(default, positions({"comm_range": math.inf}, 12.0))
+
+
 @pytest.mark.parametrize(
     ("map_name", "size", "comm_range"),
     [("sheng40", None, 42 / 4), ("office", (60, 60), 60 / 4)],
@@ -462,52 +477,9 @@ def test_quarter_width_range_completes_and_keeps_the_team_connected(
         connected = float((np.asarray(record.subnetworks) <= 1).mean())
         return record.status, connected
 
-    status, connected = run("vazquez-network", {"comm_range": comm_range})
+    status, connected = run("vazquez-network", {})  # d3 = the run's range by default
     assert status == "complete"
     _, connected_yamauchi = run("nearest-frontier", {})
     # The network is kept almost all the time, far more than without coordination.
     assert connected >= 0.9
     assert connected > connected_yamauchi
-
-
-MATRIX_MAPS = [
-    ("sheng40", None, {}),
-    ("office", (100, 100), {}),
-    ("cityblock", (100, 100), {}),
-    ("unstructured", (100, 100), {}),
-    ("../shared/maps/movingai/room-64-64-8.map", None, {}),
-    ("../shared/maps/ros/intel.yaml", None, {"cell_size": 0.2, "sensor_range": "3m"}),
-]
-
-
-@pytest.mark.slow
-def test_full_matrix_completes(monkeypatch: pytest.MonkeyPatch) -> None:
-    """1, 3 and 8 robots on every map, with unlimited range and with a quarter of the
-    map width (the strategy's ``comm_range`` set to match)."""
-    if not (SHARED / "ros").is_dir():
-        pytest.skip("the shared map collection ../shared/maps is absent")
-    monkeypatch.chdir(REPO)
-    failures = []
-    for map_name, size, extra in MATRIX_MAPS:
-        for robots in (1, 3, 8):
-            base = Scenario(
-                map=map_name, size=size, robots=robots, strategy="vazquez-network", seed=1, **extra
-            )
-            record = simulate(base)
-            if record.status != "complete":
-                failures.append(f"{map_name} {robots} robots unlimited: {record.status}")
-            quarter = record.world.grid.shape[1] / 4
-            limited = Scenario(
-                map=map_name,
-                size=size,
-                robots=robots,
-                strategy="vazquez-network",
-                seed=1,
-                comm_range=quarter,
-                params={"comm_range": quarter},
-                **extra,
-            )
-            record = simulate(limited)
-            if record.status != "complete":
-                failures.append(f"{map_name} {robots} robots range {quarter}: {record.status}")
-    assert not failures, failures

@@ -3,9 +3,6 @@ played message by message, the contract checker, and runs that complete."""
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import Any
-
 import numpy as np
 import pytest
 
@@ -35,8 +32,6 @@ from mrexplore.strategies.zlot_market import (
 )
 
 register(ZlotMarket)
-
-SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "maps"
 
 
 # ---------------------------------------------------------------------- formulas
@@ -265,30 +260,3 @@ def test_a_lone_robot_holds_no_auctions() -> None:
     record = simulate(Scenario(map="sheng40", robots=1, strategy="zlot-market", seed=1))
     assert record.status == "complete"
     assert record.result()["bytes_total"] == 0
-
-
-_MATRIX_MAPS: list[tuple[str, dict[str, Any]]] = [
-    ("sheng40", {}),
-    ("office", {"size": (100, 100)}),
-    ("cityblock", {"size": (100, 100)}),
-    ("unstructured", {"size": (100, 100)}),
-    (str(SHARED / "movingai" / "room-64-64-8.map"), {}),
-    (str(SHARED / "ros" / "intel.yaml"), {"cell_size": 0.2, "sensor_range": "3m"}),
-]
-
-
-@pytest.mark.slow
-def test_full_matrix_completes() -> None:
-    """1, 3 and 8 robots on six maps under unlimited communication."""
-    failures = []
-    for map_name, options in _MATRIX_MAPS:
-        if map_name.startswith(str(SHARED)) and not Path(map_name).exists():
-            pytest.skip("the shared map collection ../shared/maps is absent")
-        for robots in (1, 3, 8):
-            record = simulate(
-                Scenario(map=map_name, robots=robots, strategy="zlot-market", seed=1, **options)
-            )
-            print(f"zlot-market {Path(map_name).name} x{robots}: {record.status} {record.ticks}")
-            if record.status != "complete":
-                failures.append(f"{map_name} x{robots}: {record.status} at {record.ticks}")
-    assert not failures

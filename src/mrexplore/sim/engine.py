@@ -207,6 +207,7 @@ class Simulation:
                 subnetwork=subnetwork,
                 links=frozenset(link for link in all_links if link[0] in subnetwork),
                 comm_latency=self.scenario.latency,
+                comm_range=self.comm_range_cells,
                 sensor_range=self.world.sensor_range_cells,
                 speed=self.scenario.speed,
                 rng=self.streams.robots[robot.id],

@@ -13,6 +13,7 @@ when its belief gained any new cell, or every ``replan_every`` ticks.
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -84,7 +85,9 @@ class RobotView:
     ``belief`` is the robot's own map, read-only. ``subnetwork`` holds the ids of
     the live robots it can currently reach (itself included) and ``links`` the
     direct links ``(a, b)``, ``a < b``, among them: every robot knows the topology
-    of its own sub-network. ``comm_latency`` is the ticks a message takes per hop.
+    of its own sub-network. ``comm_latency`` is the ticks a message takes per hop and
+    ``comm_range`` the radio range in cells (``inf`` when unlimited): robots know their
+    own radio's specification.
     ``rng`` is the robot's own random stream.
     """
 
@@ -105,6 +108,7 @@ class RobotView:
     new_cells: int
     links: frozenset[tuple[int, int]] = frozenset()
     comm_latency: int = 1
+    comm_range: float = math.inf
 
 
 @dataclass

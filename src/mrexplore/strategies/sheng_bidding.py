@@ -49,8 +49,9 @@ name                           symbol  default  unit    meaning
                                                         (0 = the paper's "without nearness")
 ``alpha``                      α       0.5      -       fading factor of eq. (1), in [0, 1]
                                                         (the paper gives no value)
-``comm_range``                 r_c     16.0     cells   communication range in eq. (1);
-                                                        set it to the run's --comm-range
+``comm_range``                 r_c     0        cells   communication range in eq. (1);
+                                                        0 = the run's --comm-range, or
+                                                        the paper's 16 when unlimited
 ``bid_time``                   t_bid   1        ticks   bidding time (paper: 1.5 s); at
                                                         least t_d is used
 ``declare_timeout``            -       0        ticks   longest wait past t_bid for a
@@ -169,6 +170,9 @@ from mrexplore.strategies.base import (
 )
 
 WINNER = "winner"
+PAPER_R_C = 16.0
+"""r_c of the paper's section 5, in cells: eq. (1)'s length scale when the run's
+communication range is unlimited (an infinite r_c would make every nearness term 1)."""
 """Message type of a winner declaration (robot id and target)."""
 POSITION = "position"
 """Message type of a sensing-and-mapping robot's position."""
@@ -427,7 +431,9 @@ class ShengBidding(Strategy):
         "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2"),
         "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3"),
         "alpha": Param(0.5, "", "fading factor of eq. (1), in [0, 1]", "α"),
-        "comm_range": Param(16.0, "cells", "r_c of eq. (1); match --comm-range", "r_c"),
+        "comm_range": Param(
+            0.0, "cells", "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)", "r_c"
+        ),
         "bid_time": Param(1, "ticks", "bidding time (at least t_d is used)", "t_bid"),
         "declare_timeout": Param(
             0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d"
@@ -442,8 +448,10 @@ class ShengBidding(Strategy):
         p = self.p
         if not 0.0 <= p["alpha"] <= 1.0:
             raise ScenarioError(f"--set alpha={p['alpha']}: the fading factor must be in [0, 1]")
-        if not p["comm_range"] > 0:
-            raise ScenarioError(f"--set comm_range={p['comm_range']}: must be > 0 cells")
+        if not p["comm_range"] >= 0:
+            raise ScenarioError(
+                f"--set comm_range={p['comm_range']}: must be >= 0 cells (0 = the run's)"
+            )
         if p["bid_time"] < 1:
             raise ScenarioError(f"--set bid_time={p['bid_time']}: must be >= 1 tick")
         if p["declare_timeout"] < 0:
@@ -627,6 +635,13 @@ class ShengBidding(Strategy):
         out.append(self._bid_message(bid))
         return Decision(messages=out)
 
+    def _r_c(self, view: RobotView) -> float:
+        """r_c of eq. (1): the parameter, else the run's range, else the paper's 16."""
+        given = float(self.p["comm_range"])
+        if given > 0:
+            return given
+        return view.comm_range if math.isfinite(view.comm_range) else PAPER_R_C
+
     def _bid(self, view: RobotView) -> Bid | None:
         result = self._evaluate(view)
         return None if result is None else result[0]
@@ -639,7 +654,7 @@ class ShengBidding(Strategy):
             [cell for robot, cell in sorted(self.positions.items()) if robot in others],
             [cell for robot, cell in sorted(self.targets.items()) if robot in others],
             sensor_range=view.sensor_range,
-            comm_range=float(self.p["comm_range"]),
+            comm_range=self._r_c(view),
             alpha=float(self.p["alpha"]),
             w1=float(self.p["w1"]),
             w2=float(self.p["w2"]),

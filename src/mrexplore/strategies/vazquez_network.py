@@ -52,7 +52,7 @@ Parameters:
 =========================  ======  =======  =====  ==============================================
 name                       symbol  default  unit   meaning
 =========================  ======  =======  =====  ==============================================
-``comm_range``             d3      inf      cells  communication range; set it to the run's
+``comm_range``             d3      0        cells  communication range; 0 = the run's
                                                    ``--comm-range`` in cells; inf = the network
                                                    cannot break, no constraints
 ``d2_fraction``            d2      0.9      -      preventive constraint ``d2 = 0.9 d3``
@@ -105,12 +105,12 @@ Interpretations (where the paper is silent or does not fit a grid world):
   interference by walls and ``1/d^2`` decay, a robot computes it as ``1 / g`` from
   the positions it has heard; "below the threshold" means ``1 / g < 1 / d2^2``, i.e.
   farther than ``d2``.
-* **d3 is a strategy parameter.** A strategy cannot see the scenario, so
-  ``comm_range`` must be set to the run's ``--comm-range`` in cells
-  (``--comm-range 25 --set comm_range=25``). With ``comm_range = inf`` (default)
-  the network cannot break, so bridges impose nothing and the method is
-  decentralised Simmons exploration with shared destinations and collision
-  avoidance.
+* **d3 is the robot's radio range.** By default (``comm_range = 0``) it is the
+  run's ``--comm-range`` in cells, which every robot knows as the specification of
+  its own radio (:attr:`RobotView.comm_range`); ``--set comm_range=R`` plans with a
+  different assumed range. With an unlimited range the network cannot break, so
+  bridges impose nothing and the method is decentralised Simmons exploration with
+  shared destinations and collision avoidance.
 * **d1 = 3/2 of the sensor diameter** assumes a sensor small against the radio
   (Khepera: 45 cm against 1-2 m, ``d1 / d2 = 0.675 / 0.9 = 0.75`` at the shortest
   range). On grids the sensor is often large against the radio (``R = 8``,
@@ -575,7 +575,7 @@ class VazquezNetwork(Strategy):
     )
     params: ClassVar[Mapping[str, Param]] = {
         "comm_range": Param(
-            math.inf, "cells", "communication range d3; set it to the run's --comm-range", "d3"
+            0.0, "cells", "communication range d3; 0 = the run's --comm-range", "d3"
         ),
         "d2_fraction": Param(0.9, "", "preventive constraint d2 = d2_fraction x d3", "d2"),
         "d1_sensor_diameters": Param(1.5, "", "collision constraint d1 in sensor diameters", "d1"),
@@ -606,6 +606,10 @@ class VazquezNetwork(Strategy):
         super().__init__(robot_id, n_robots, **params)
         if int(self.p["position_period"]) < 1:
             raise ScenarioError("--set position_period: must be at least 1 tick")
+        if not float(self.p["comm_range"]) >= 0:
+            raise ScenarioError(
+                f"--set comm_range={self.p['comm_range']}: must be >= 0 cells (0 = the run's)"
+            )
         # What this robot knows of the others, from messages: (value, tick sent).
         self.positions: dict[int, tuple[Cell, int]] = {}
         self.destinations: dict[int, tuple[Cell, int]] = {}
@@ -628,9 +632,14 @@ class VazquezNetwork(Strategy):
         self._roles = NetworkRoles(frozenset(), frozenset(), {robot_id: 0})
 
     # ------------------------------------------------------------------ knowledge
+    def _d3(self, view: RobotView) -> float:
+        """The communication range d3 in cells: the parameter, or the run's range."""
+        given = float(self.p["comm_range"])
+        return given if given > 0 else view.comm_range
+
     def _radii(self, view: RobotView) -> tuple[float, float]:
         d1, d2, _d3 = comfort_distances(
-            float(self.p["comm_range"]),
+            self._d3(view),
             view.sensor_range,
             d2_fraction=float(self.p["d2_fraction"]),
             d1_sensor_diameters=float(self.p["d1_sensor_diameters"]),
@@ -638,16 +647,16 @@ class VazquezNetwork(Strategy):
         )
         return d1, d2
 
-    def _constrained(self) -> bool:
+    def _constrained(self, view: RobotView) -> bool:
         """Whether the network can break at all (finite ``d3``)."""
-        return math.isfinite(float(self.p["comm_range"]))
+        return math.isfinite(self._d3(view))
 
     def _memory(self, view: RobotView, name: str) -> int:
         """A duration parameter in ticks; 0 = ``4 d3`` ticks of travel, at least 50."""
         ticks = int(self.p[name])
         if ticks > 0:
             return ticks
-        return max(50, math.ceil(4 * float(self.p["comm_range"]) / view.speed))
+        return max(50, math.ceil(4 * self._d3(view) / view.speed))
 
     def _roles_of(self, view: RobotView) -> NetworkRoles:
         key = (view.subnetwork, view.links)
@@ -700,7 +709,7 @@ class VazquezNetwork(Strategy):
         """Note direct neighbours that left the sub-network (their link was a bridge) and
         those that came back; True if either set changed."""
         changed = False
-        if self._constrained():
+        if self._constrained(view):
             for robot in sorted(self.previous_neighbours - view.subnetwork):
                 cell = self._position(robot)
                 if cell is not None and robot not in self.lost:
@@ -725,7 +734,7 @@ class VazquezNetwork(Strategy):
         that were bridge neighbours or reconnected in the last ``constraint_memory`` ticks
         (§3.3.1: "once the robot achieves the connection status it constrains future
         plans"; this also keeps a flickering link from switching behaviours every tick)."""
-        if not self._constrained():
+        if not self._constrained(view):
             return frozenset()
         until = view.tick + self._memory(view, "constraint_memory")
         for robot in roles.bridges:
@@ -742,7 +751,7 @@ class VazquezNetwork(Strategy):
     def decide(self, view: RobotView) -> Decision:
         tick = view.tick
         conflict = self._read_inbox(view)
-        roles = self._roles_of(view) if self._constrained() else self._roles
+        roles = self._roles_of(view) if self._constrained(view) else self._roles
         lost_changed = self._track_lost(view, roles)
         d1, d2 = self._radii(view)
 
