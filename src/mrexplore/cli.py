@@ -168,6 +168,43 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("strategies", help="list the registered strategies")
     sub.add_parser("maps", help="list map generators and the bundled real maps")
+
+    sweep = sub.add_parser("sweep", help="run a sweep file into a results folder")
+    sweep.add_argument("file", help="sweep file (TOML: [sweep] seeds, [fixed], [grid])")
+    sweep.add_argument("--out", required=True, help="results folder (Parquet files)")
+    sweep.add_argument("--engine", default="local", help="local (default) | ray | dask")
+    sweep.add_argument(
+        "--workers", type=_positive_int("--workers"), help="worker processes (default: cores)"
+    )
+    sweep.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
+    sweep.add_argument("--resume", action="store_true", help="run only the runs missing from --out")
+    sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
+    sweep.add_argument("--dry-run", action="store_true", help="list the runs, run nothing")
+
+    query = sub.add_parser("query", help="SQL over a results folder (tables runs, curves)")
+    query.add_argument("dir", help="results folder written by `mrexplore sweep`")
+    query.add_argument("sql", help='e.g. "SELECT strategy, avg(T99) FROM runs GROUP BY 1"')
+    query.add_argument("--csv", action="store_true", help="print CSV instead of a table")
+
+    report = sub.add_parser("report", help="Markdown + PNG report of a results folder")
+    report.add_argument("dir", help="results folder written by `mrexplore sweep`")
+    report.add_argument("--out", help="folder of report.md and its figures (default: DIR)")
+    report.add_argument(
+        "--metric", action="append", default=[], help="metric column to report (repeatable)"
+    )
+    report.add_argument("--baseline", help="compare every strategy with this one")
+    report.add_argument("--title", help="the report's heading (default: the sweep's name)")
+
+    reproduce = sub.add_parser("reproduce", help="run a paper's experiments and report")
+    reproduce.add_argument(
+        "paper", help="sheng2006 | vazquez2005 | wu2011 | market2018 | meier2006"
+    )
+    reproduce.add_argument("--out", required=True, help="folder for the results and report.md")
+    reproduce.add_argument("--quick", action="store_true", help="reduced version (minutes)")
+    reproduce.add_argument("--engine", default="local", help="local (default) | ray | dask")
+    reproduce.add_argument("--workers", type=_positive_int("--workers"))
+    reproduce.add_argument("--address", help="Ray or Dask cluster to join")
+    reproduce.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
 
@@ -335,7 +372,120 @@ def cmd_maps(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMANDS = {"run": cmd_run, "strategies": cmd_strategies, "maps": cmd_maps}
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from mrexplore.experiments import ENGINES, EngineError, load_sweep, run_sweep
+
+    if args.engine not in ENGINES:
+        raise EngineError(f"--engine {args.engine}: choose one of {', '.join(ENGINES)}")
+    sweep = load_sweep(args.file)
+    if args.dry_run:
+        for spec in sweep.runs():
+            scenario = spec.scenario
+            print(
+                f"{spec.run_id}  {scenario.strategy} x{scenario.robots} on {scenario.map}, "
+                f"seed {scenario.seed}"
+            )
+        print(f"{len(sweep)} runs")
+        return 0
+    summary = run_sweep(
+        sweep,
+        args.out,
+        engine=args.engine,
+        workers=args.workers,
+        address=args.address,
+        resume=args.resume,
+        progress=not args.no_progress,
+    )
+    print(
+        f"{summary.done} runs done ({summary.failed} failed), {summary.skipped} already in "
+        f"{args.out}, {summary.total} in the sweep; {summary.wall_time_s:.1f} s"
+    )
+    return 0
+
+
+def cmd_query(args: argparse.Namespace) -> int:
+    from mrexplore.experiments import Store
+
+    table = Store(args.dir).query(args.sql)
+    if args.csv:
+        import csv
+
+        writer = csv.writer(sys.stdout)
+        writer.writerow(table.column_names)
+        for row in table.to_pylist():
+            writer.writerow(row.values())
+        return 0
+    print(_format_table(table.column_names, [list(r.values()) for r in table.to_pylist()]))
+    return 0
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from mrexplore.experiments import Store
+    from mrexplore.experiments.report import write_report
+
+    store = Store(args.dir)
+    runs, curves = store.tables()
+    if runs.num_rows == 0:
+        raise ScenarioError(f"{args.dir}: the results folder holds no runs yet")
+    out = Path(args.out) if args.out else Path(args.dir)
+    _check_out_dir(str(out))
+    title = args.title or f"Sweep report: {Path(args.dir).resolve().name}"
+    path = write_report(
+        runs, curves, out, metrics=args.metric or None, title=title, baseline=args.baseline
+    )
+    print(f"report: {path}")
+    return 0
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    from mrexplore.experiments import ENGINES, EngineError
+    from mrexplore.experiments.reproduce import get_reproduction, reproduce
+
+    if args.engine not in ENGINES:
+        raise EngineError(f"--engine {args.engine}: choose one of {', '.join(ENGINES)}")
+    reproduction = get_reproduction(args.paper)
+    _check_out_dir(args.out)
+    report = reproduce(
+        reproduction,
+        args.out,
+        quick=args.quick,
+        engine=args.engine,
+        workers=args.workers,
+        address=args.address,
+        progress=not args.no_progress,
+    )
+    print(f"report: {report}")
+    return 0
+
+
+def _format_table(header: list[str], rows: list[list[Any]]) -> str:
+    """A plain text table, right-aligned numbers."""
+    cells = [[_fmt(value) for value in row] for row in rows]
+    widths = [max([len(name), *(len(row[i]) for row in cells)]) for i, name in enumerate(header)]
+    lines = ["  ".join(name.ljust(w) for name, w in zip(header, widths, strict=True))]
+    lines.append("  ".join("-" * w for w in widths))
+    for row, raw in zip(cells, rows, strict=True):
+        lines.append(
+            "  ".join(
+                text.rjust(w) if isinstance(value, int | float) else text.ljust(w)
+                for text, value, w in zip(row, raw, widths, strict=True)
+            )
+        )
+    lines.append(f"({len(rows)} rows)")
+    return "\n".join(lines)
+
+
+COMMANDS = {
+    "run": cmd_run,
+    "strategies": cmd_strategies,
+    "maps": cmd_maps,
+    "sweep": cmd_sweep,
+    "query": cmd_query,
+    "report": cmd_report,
+    "reproduce": cmd_reproduce,
+}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -12,6 +12,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from mrexplore.metrics.regions import final_epv, final_wtv
+
 
 def coverage_curve(
     first_known: npt.NDArray[np.int32], explorable: npt.NDArray[np.bool_], n_ticks: int
@@ -67,6 +69,8 @@ def summarize(trace: dict[str, Any]) -> dict[str, Any]:
         "overlap": float(sensed_explorable.mean()) if sensed_explorable.size else 0.0,
         "robots_failed": int(np.count_nonzero(~alive_end)),
         "group_diameter_mean": float(diameter.mean()),
+        "wtv_8_final": final_wtv(trace, 8),  # Wu, Puig & Garcia eq. (10), ticks²
+        "epv_8_final": final_epv(trace, 8),  # Wu, Puig & Garcia §V.B, percent²
     }
     if sensed_by_robot is not None:
         cells = np.asarray(sensed_by_robot, dtype=np.float64)

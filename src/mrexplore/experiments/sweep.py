@@ -1,0 +1,316 @@
+"""Sweep files: a grid of scenarios as data (DESIGN §8-9).
+
+A sweep file is TOML. ``[sweep]`` holds the seeds (and optional settings of the
+sweep itself), ``[fixed]`` the settings every run shares and ``[grid]`` the
+settings that vary, each a list; the runs are the cartesian product of the grid
+lists times the seeds. Keys are ``run``'s long options with dashes as
+underscores. Strategy parameters (``--set``) go in a ``set`` sub-table and
+sharing parameters (``--share``) in a ``share`` sub-table, fixed or gridded::
+
+    [sweep]
+    name = "nearness"
+    seeds = [1, 2, 3, 4, 5, 6]
+    curves_every = 10          # ticks between samples of the curves table
+
+    [fixed]
+    map = "sheng40"
+    sensor_range = 4
+    comm_range = 16
+    sensing = "arrival"
+
+    [grid]
+    strategy = ["sheng-bidding"]
+    robots = [2, 4, 8]
+
+    [grid.set]
+    w3 = [0.0, 1.5]
+
+Every expanded run is validated before anything runs: a bad key or value is a
+:class:`SweepError` naming the file, the key and the problem.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import tomllib
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+from mrexplore.errors import MapFileError, MrexploreInputError, UnknownIdError
+from mrexplore.grid import GENERATORS
+from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
+
+
+class SweepError(MrexploreInputError):
+    """A sweep file or sweep option is invalid."""
+
+
+SCENARIO_KEYS: tuple[str, ...] = tuple(
+    f.name for f in fields(Scenario) if f.name not in ("params", "sharing_params", "seed")
+)
+"""Scenario settings a sweep may fix or grid (``seed`` comes from ``[sweep] seeds``)."""
+
+SWEEP_KEYS = ("name", "description", "seeds", "curves_every")
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of a sweep: its id (a hash of the scenario) and the scenario."""
+
+    run_id: str
+    scenario: Scenario
+    curves_every: int = 10
+
+
+@dataclass
+class Sweep:
+    """A parsed sweep: ``fixed`` settings, ``grid`` lists and ``seeds``.
+
+    ``fixed`` and ``grid`` use the scenario's field names; strategy parameters
+    are under ``"set"`` and sharing parameters under ``"share"`` (a dict in
+    ``fixed``, a dict of lists in ``grid``).
+    """
+
+    seeds: list[int]
+    fixed: dict[str, Any] = field(default_factory=dict)
+    grid: dict[str, Any] = field(default_factory=dict)
+    name: str = "sweep"
+    description: str = ""
+    curves_every: int = 10
+    source: str = "<sweep>"
+
+    def axes(self) -> list[tuple[str, list[Any]]]:
+        """The grid's axes in file order: ``(key, values)``, ``set.*``/``share.*`` last."""
+        out: list[tuple[str, list[Any]]] = []
+        for key, values in self.grid.items():
+            if key in ("set", "share"):
+                out += [(f"{key}.{name}", list(v)) for name, v in values.items()]
+            else:
+                out.append((key, list(values)))
+        return out
+
+    def __len__(self) -> int:
+        return math.prod(len(values) for _, values in self.axes()) * len(self.seeds)
+
+    def runs(self) -> list[RunSpec]:
+        """Every run, seeds outermost (a partial sweep has every condition at the
+        first seeds), then the grid in file order. Each is validated."""
+        specs: list[RunSpec] = []
+        seen: dict[str, str] = {}
+        axes = self.axes()
+        for seed in self.seeds:
+            for combo in itertools.product(*(values for _, values in axes)):
+                chosen = dict(zip((key for key, _ in axes), combo, strict=True))
+                scenario = self._scenario(seed, chosen)
+                run_id = scenario_id(scenario)
+                label = _label(seed, chosen)
+                if run_id in seen:
+                    raise SweepError(
+                        f"{self.source}: runs {seen[run_id]} and {label} are the same "
+                        "scenario (a value repeated in [grid]?)"
+                    )
+                seen[run_id] = label
+                specs.append(RunSpec(run_id, scenario, self.curves_every))
+        return specs
+
+    def _scenario(self, seed: int, chosen: Mapping[str, Any]) -> Scenario:
+        settings: dict[str, Any] = {
+            k: v for k, v in self.fixed.items() if k not in ("set", "share")
+        }
+        params: dict[str, Any] = dict(self.fixed.get("set", {}))
+        share: dict[str, Any] = dict(self.fixed.get("share", {}))
+        for key, value in chosen.items():
+            if key.startswith("set."):
+                params[key[4:]] = value
+            elif key.startswith("share."):
+                share[key[6:]] = value
+            else:
+                settings[key] = value
+        label = _label(seed, chosen)
+        try:
+            converted = {key: _convert(key, value) for key, value in settings.items()}
+            scenario = Scenario(seed=seed, params=params, sharing_params=share, **converted)
+            validate_scenario(scenario)
+        except MrexploreInputError as error:
+            raise SweepError(f"{self.source}: run {label}: {error}") from None
+        return scenario
+
+
+def validate_scenario(scenario: Scenario) -> None:
+    """Everything that can be checked without running: fields, the map exists,
+    strategy and its parameters, sharing mechanism and its parameters. (Map file
+    contents and start cells are checked by the run itself: a bad one makes that
+    run ``failed``.)"""
+    from mrexplore.comm.sharing import make_sharing
+    from mrexplore.strategies.registry import get_strategy, make_strategy
+
+    scenario.validate()
+    if scenario.map not in GENERATORS and not Path(scenario.map).is_file():
+        if Path(scenario.map).suffix:
+            raise MapFileError(scenario.map, "no such file")
+        raise UnknownIdError("map generator (or missing map file)", scenario.map, list(GENERATORS))
+    make_strategy(scenario.strategy, 0, scenario.robots, dict(scenario.params))
+    sharing = scenario.sharing or get_strategy(scenario.strategy).default_sharing
+    make_sharing(sharing, **scenario.sharing_params)
+
+
+def scenario_id(scenario: Scenario) -> str:
+    """A stable id of a scenario: 16 hex digits of the SHA-256 of its canonical JSON.
+
+    Equal scenarios (and so equal runs) have equal ids, in every process.
+    """
+    canonical = json.dumps(_jsonable(scenario.to_dict()), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(canonical.encode()).hexdigest()[:16]
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    return value
+
+
+def _label(seed: int, chosen: Mapping[str, Any]) -> str:
+    parts = [f"{key}={value}" for key, value in chosen.items()]
+    return "(" + ", ".join([*parts, f"seed={seed}"]) + ")"
+
+
+def _convert(key: str, value: Any) -> Any:
+    """TOML value -> the scenario field's type, with the CLI's text forms."""
+    if key == "size" and isinstance(value, str):
+        return parse_size(value)
+    if key == "size" and isinstance(value, list):
+        if len(value) != 2:
+            raise SweepError(f"size {value}: expected [WIDTH, HEIGHT] or 'WxH'")
+        return (int(value[0]), int(value[1]))
+    if key == "fail":
+        items = value if isinstance(value, list) else [value]
+        return [parse_failure(str(item)) for item in items]
+    if key == "start" and isinstance(value, str) and value not in ("together", "separate"):
+        return parse_cells(value)
+    if key in ("comm_range", "sensor_range", "bandwidth", "speed", "loss", "failure_rate"):
+        if isinstance(value, str) and value.strip().lower() in ("inf", "infinity"):
+            return math.inf
+        if isinstance(value, int | float) and not isinstance(value, bool):
+            return float(value)
+    if key == "cell_size" and isinstance(value, int | float):
+        return float(value)
+    return value
+
+
+def sweep_from_dict(data: Mapping[str, Any], source: str = "<sweep>") -> Sweep:
+    """Build and check a :class:`Sweep` from the parsed TOML (or any mapping)."""
+    unknown_tables = sorted(set(data) - {"sweep", "fixed", "grid"})
+    if unknown_tables:
+        raise SweepError(
+            f"{source}: unknown table [{unknown_tables[0]}]; use [sweep], [fixed] and [grid]"
+        )
+    head = _table(data, "sweep", source)
+    for key in head:
+        if key not in SWEEP_KEYS:
+            raise SweepError(
+                f"{source}: [sweep] unknown key {key!r}; known: {', '.join(SWEEP_KEYS)}"
+            )
+    seeds = head.get("seeds")
+    if (
+        not isinstance(seeds, list)
+        or not seeds
+        or not all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in seeds)
+    ):
+        raise SweepError(f"{source}: [sweep] seeds: expected a non-empty list of integers >= 0")
+    if len(set(seeds)) != len(seeds):
+        raise SweepError(f"{source}: [sweep] seeds: a seed is repeated")
+    curves_every = head.get("curves_every", 10)
+    if not isinstance(curves_every, int) or isinstance(curves_every, bool) or curves_every < 1:
+        raise SweepError(f"{source}: [sweep] curves_every: expected an integer >= 1 (ticks)")
+    fixed = _table(data, "fixed", source)
+    grid = _table(data, "grid", source)
+    for table, content in (("fixed", fixed), ("grid", grid)):
+        for key, value in content.items():
+            if key in ("set", "share"):
+                if not isinstance(value, dict):
+                    raise SweepError(f"{source}: [{table}] {key}: expected a table [{table}.{key}]")
+                continue
+            if key == "seed":
+                raise SweepError(f"{source}: [{table}] seed: list the seeds in [sweep] seeds")
+            if key not in SCENARIO_KEYS:
+                hint = key.replace("-", "_")
+                extra = f" (did you mean {hint!r}?)" if hint in SCENARIO_KEYS else ""
+                raise SweepError(
+                    f"{source}: [{table}] unknown key {key!r}{extra}; keys are run's long "
+                    "options with underscores, strategy parameters go in a 'set' table"
+                )
+    for key, values in _grid_lists(grid):
+        if not isinstance(values, list) or not values:
+            raise SweepError(f"{source}: [grid] {key}: expected a non-empty list of values")
+    for key in set(fixed) & set(grid) - {"set", "share"}:
+        raise SweepError(f"{source}: {key!r} is both in [fixed] and in [grid]")
+    for sub in ("set", "share"):
+        both = set(fixed.get(sub, {})) & set(grid.get(sub, {}))
+        for key in sorted(both):
+            raise SweepError(f"{source}: {sub}.{key} is both in [fixed] and in [grid]")
+    sweep = Sweep(
+        seeds=list(seeds),
+        fixed=dict(fixed),
+        grid=dict(grid),
+        name=str(head.get("name", Path(source).stem if source != "<sweep>" else "sweep")),
+        description=str(head.get("description", "")),
+        curves_every=curves_every,
+        source=source,
+    )
+    sweep.runs()  # validates every run now, before anything is written or run
+    return sweep
+
+
+def load_sweep(path: str | Path) -> Sweep:
+    """Read and check a sweep file."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        raise SweepError(f"{path}: no such sweep file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise SweepError(f"{path}: cannot read: {error}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise SweepError(f"{path}: not valid TOML: {error}") from None
+    return sweep_from_dict(data, str(path))
+
+
+def _table(data: Mapping[str, Any], name: str, source: str) -> dict[str, Any]:
+    table = data.get(name, {})
+    if not isinstance(table, dict):
+        raise SweepError(f"{source}: {name} must be a table [{name}]")
+    return table
+
+
+def _grid_lists(grid: Mapping[str, Any]) -> Iterator[tuple[str, Any]]:
+    for key, value in grid.items():
+        if key in ("set", "share"):
+            yield from ((f"{key}.{k}", v) for k, v in value.items())
+        else:
+            yield key, value
+
+
+def grid_columns(sweep: Sweep) -> Sequence[str]:
+    """Column names of the settings the grid varies (``param_w3`` for ``set.w3``)."""
+    return [column_name(key) for key, _ in sweep.axes()]
+
+
+def column_name(key: str) -> str:
+    """The results-table column of a sweep key: ``set.w3`` -> ``param_w3``,
+    ``share.epsilon`` -> ``share_epsilon``, others unchanged."""
+    if key.startswith("set."):
+        return "param_" + key[4:]
+    if key.startswith("share."):
+        return "share_" + key[6:]
+    return key
