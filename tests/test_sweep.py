@@ -250,3 +250,10 @@ def test_resume_runs_added_seeds_only(tmp_path: Path) -> None:
     assert (summary.skipped, summary.done) == (2, 1)
     seeds = Store(tmp_path).query("SELECT seed FROM runs ORDER BY seed").column("seed")
     assert seeds.to_pylist() == [1, 2, 3]
+
+
+def test_example_sweep_files_are_valid() -> None:
+    examples = sorted((Path(__file__).resolve().parents[1] / "examples" / "sweeps").glob("*.toml"))
+    assert examples
+    for path in examples:
+        assert len(load_sweep(path)) > 0, path
