@@ -31,8 +31,9 @@ test: lint typecheck
 test-slow: install
 	OMP_NUM_THREADS=1 $(BIN)/pytest -q -m slow -n auto
 
+# Scenarios S1-S6 and the scaling table; appends to benchmarks/RESULTS.md.
 bench: install
-	$(BIN)/python benchmarks/bench_runs.py
+	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/bench_suite.py --scaling --record
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info .pytest_cache .mypy_cache .ruff_cache
