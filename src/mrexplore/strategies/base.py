@@ -248,6 +248,7 @@ def reachable_frontier_cells(
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """Rows and cols (raster order) of frontier cells with a finite distance, excluding the
     robot's own cell."""
-    candidates = frontier & np.isfinite(dist) & (dist > 0)
-    rows, cols = np.nonzero(candidates)
-    return rows, cols
+    rows, cols = np.nonzero(frontier)  # few cells: index the field there only
+    at = dist[rows, cols]
+    keep = np.isfinite(at) & (at > 0)
+    return rows[keep], cols[keep]
