@@ -210,6 +210,9 @@ RESYNC_REQUEST = "RQ"
 """A receiver that detected a gap asks the sender for a full resync (our addition)."""
 REQUEST_AGAIN_AFTER = 10
 """Packages ignored while out of sync before a receiver repeats its request."""
+ERROR_SAMPLE_EVERY = 10
+"""Ticks between samples of the approximation error for its mean over the run
+(``polygon_approximation_error_mean``; observation only, it changes nothing)."""
 
 
 @dataclass
@@ -285,6 +288,7 @@ class _RobotState:
         self.heap: list[tuple[float, int, int]] = []
         self.next_resync: int | None = None
         self.members: frozenset[int] | None = None
+        self.error_samples: list[float] = []
         self.inbound: dict[int, _Inbound] = {}
         self.resync_requested = False
 
@@ -423,6 +427,8 @@ class PolygonSharing(MapSharing):
             if gained or state.resync_requested or self._resync_due(state, tick):
                 state.resync_requested = False
                 messages.append(self._resync(robot, state, tick))
+            if tick % ERROR_SAMPLE_EVERY == 0 and (state.own != UNKNOWN).any():
+                state.error_samples.append(self.approximation_error(robot))
         return messages
 
     def _resync_due(self, state: _RobotState, tick: int) -> bool:
@@ -832,12 +838,20 @@ class PolygonSharing(MapSharing):
         """For ``result.json``: final approximation errors, vertex counts, resyncs, gaps.
 
         ``polygon_approximation_error``: per robot, :meth:`approximation_error`
-        at the end of the run; ``polygon_vertices``: per robot, vertices of its
-        approximation; ``polygon_resyncs``: full resyncs sent by the team;
+        at the end of the run; ``polygon_approximation_error_mean``: per robot,
+        its mean over the run (sampled by :meth:`on_tick` every
+        :data:`ERROR_SAMPLE_EVERY` ticks once the robot has observed something,
+        after that tick's refinement; ``None`` without a sample), the paper's
+        "average approximation error" (§5.4, Table 2); ``polygon_vertices``: per
+        robot, vertices of its approximation; ``polygon_resyncs``: full resyncs sent by the team;
         ``polygon_gaps``: times a receiver found a gap in a sender's sequence.
         """
         return {
             "polygon_approximation_error": self.approximation_errors(),
+            "polygon_approximation_error_mean": [
+                float(np.mean(state.error_samples)) if state.error_samples else None
+                for state in self._robots
+            ],
             "polygon_vertices": [
                 int(sum(t.ids.size for t in state.tracked.values())) for state in self._robots
             ],
