@@ -5,10 +5,11 @@ from __future__ import annotations
 import shutil
 import sys
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
-from mrexplore.experiments.engines import WorkerLost, make_engine
+from mrexplore.experiments.engines import Engine, WorkerLost, make_engine
 from mrexplore.experiments.runner import RunOutcome, execute, scenario_columns
 from mrexplore.experiments.store import COMPACT_AFTER, Store, StoreError
 from mrexplore.experiments.sweep import RunSpec, Sweep, load_sweep
@@ -29,7 +30,7 @@ def run_sweep(
     sweep: Sweep | str | Path,
     out: str | Path,
     *,
-    engine: str = "local",
+    engine: str | Engine = "local",
     workers: int | None = None,
     address: str | None = None,
     resume: bool = False,
@@ -70,7 +71,12 @@ def run_sweep(
     bar = _progress(len(specs), len(specs) - len(todo), progress)
     try:
         if todo:
-            with make_engine(engine, workers, address) as runner:
+            context = (
+                nullcontext(engine)
+                if isinstance(engine, Engine)
+                else make_engine(engine, workers, address)
+            )
+            with context as runner:
                 for spec, result in runner.imap_unordered(execute, todo):
                     outcome = result if isinstance(result, RunOutcome) else _lost(spec, result)
                     store.append(outcome)

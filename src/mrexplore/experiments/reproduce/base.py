@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Literal
 
 from mrexplore.experiments.driver import run_sweep
+from mrexplore.experiments.engines import make_engine
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep
 
@@ -63,18 +64,12 @@ def reproduce(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     stores: dict[str, Store] = {}
-    for name, sweep in reproduction.sweeps(quick).items():
-        folder = out / name
-        run_sweep(
-            sweep,
-            folder,
-            engine=engine,
-            workers=workers,
-            address=address,
-            resume=True,
-            progress=progress,
-        )
-        stores[name] = Store(folder)
+    sweeps = reproduction.sweeps(quick)
+    with make_engine(engine, workers, address) as runner:  # one pool for every sweep
+        for name, sweep in sweeps.items():
+            folder = out / name
+            run_sweep(sweep, folder, engine=runner, resume=True, progress=progress)
+            stores[name] = Store(folder)
     return reproduction.report(stores, out, quick)
 
 
