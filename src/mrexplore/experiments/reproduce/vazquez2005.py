@@ -661,11 +661,12 @@ def verdict_variance(records: Sequence[RunRecord]) -> Verdict:
     if fig7:
         c = max(fig7, key=lambda c: c.robots)
         fig7_text = (
-            f"; Fig. 7 setting (small, 1.5 m, {c.robots} robots): sd Yamauchi "
-            f"{_fmt(c.yamauchi.sd)}, vazquez {_fmt(c.vazquez.sd)}"
+            f"; Fig. 7 setting (small, 1.5 m, {c.robots} robots, common seeds): sd "
+            f"Yamauchi {_fmt(c.yamauchi.sd)}, vazquez {_fmt(c.vazquez.sd)}"
         )
     evidence = (
-        f"Yamauchi's sd is the higher in {_share(len(higher), len(found))} settings; median "
+        f"Yamauchi's sd (seeds both ran) is the higher in {_share(len(higher), len(found))} "
+        "settings; median "
         f"sd ratio Yamauchi/vazquez {ratio:.2f}" + fig7_text
     )
     return Verdict(
