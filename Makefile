@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: install demo test test-slow lint typecheck bench clean
+.PHONY: install demo test test-slow lint typecheck bench clean browser-deps
 
 install: $(STAMP)
 
@@ -24,8 +24,31 @@ lint: install
 typecheck: install
 	$(BIN)/mypy src/mrexplore
 
-test: lint typecheck
+test: lint typecheck browser-deps
 	OMP_NUM_THREADS=1 $(BIN)/pytest -q
+
+# Headless Chromium for the replay's browser test (tests/test_replay.py). Installs
+# Debian's chromium and chromium-driver when missing; never fails the build: without
+# them the browser test is skipped and says why.
+browser-deps:
+	@if [ -x /usr/bin/chromium ] && [ -x /usr/bin/chromedriver ]; then \
+		exit 0; \
+	elif ! command -v apt-get >/dev/null 2>&1; then \
+		echo "browser-deps: no apt-get here; the browser test will be skipped"; \
+	elif [ "$$(id -u)" != 0 ] && ! command -v sudo >/dev/null 2>&1; then \
+		echo "browser-deps: not root and no sudo; the browser test will be skipped"; \
+	else \
+		SUDO=$$([ "$$(id -u)" = 0 ] || echo "sudo -n"); \
+		echo "browser-deps: installing chromium and chromium-driver (apt-get)"; \
+		export DEBIAN_FRONTEND=noninteractive; \
+		$$SUDO apt-get install -y -q --no-install-recommends chromium chromium-driver \
+			>/tmp/mrexplore-browser-deps.log 2>&1 \
+		|| { $$SUDO apt-get update -q >>/tmp/mrexplore-browser-deps.log 2>&1 \
+			&& $$SUDO apt-get install -y -q --no-install-recommends chromium chromium-driver \
+			>>/tmp/mrexplore-browser-deps.log 2>&1; } \
+		|| echo "browser-deps: could not install chromium (see /tmp/mrexplore-browser-deps.log);" \
+			"the browser test will be skipped"; \
+	fi
 
 # The slow matrices and full reproductions (about an hour on two cores).
 test-slow: install

@@ -164,6 +164,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--out", help="output folder (result.json, trace.npz, final.png)")
     run.add_argument("--gif", action="store_true", help="also write run.gif")
+    run.add_argument("--mp4", action="store_true", help="also write run.mp4 (needs ffmpeg)")
+    run.add_argument(
+        "--belief-panels",
+        action="store_true",
+        help="record every robot's own map and show it in panels of run.gif/run.mp4",
+    )
     run.add_argument("--json", action="store_true", help="print result.json instead of a table")
 
     sub.add_parser("strategies", help="list the registered strategies")
@@ -194,6 +200,23 @@ def build_parser() -> argparse.ArgumentParser:
     )
     report.add_argument("--baseline", help="compare every strategy with this one")
     report.add_argument("--title", help="the report's heading (default: the sweep's name)")
+
+    replay = sub.add_parser("replay", help="write a run's self-contained replay.html")
+    replay.add_argument("run_dir", help="folder written by `mrexplore run --out`")
+    replay.add_argument("--out", help="file to write (default: RUN_DIR/replay.html)")
+    replay.add_argument("--gif", action="store_true", help="also write RUN_DIR/run.gif")
+    replay.add_argument(
+        "--mp4", action="store_true", help="also write RUN_DIR/run.mp4 (needs ffmpeg)"
+    )
+    replay.add_argument(
+        "--belief-panels", action="store_true", help="per-robot belief panels in the GIF/MP4"
+    )
+    replay.add_argument(
+        "--max-frames",
+        type=_positive_int("--max-frames"),
+        default=300,
+        help="frames of the GIF/MP4, evenly spread over the run (default: 300)",
+    )
 
     reproduce = sub.add_parser("reproduce", help="run a paper's experiments and report")
     reproduce.add_argument(
@@ -317,9 +340,14 @@ def cmd_run(args: argparse.Namespace) -> int:
         make_sharing(scenario.sharing, **scenario.sharing_params)  # bad id -> input error now
     if args.out:
         _check_out_dir(args.out)
-    simulation = Simulation(scenario)
+    _check_ffmpeg(args.mp4)
+    simulation = Simulation(scenario, record_beliefs=True if args.belief_panels else None)
     record = simulation.run()
-    written = record.save(args.out, gif=args.gif) if args.out else {}
+    written = (
+        record.save(args.out, gif=args.gif, mp4=args.mp4, belief_panels=args.belief_panels)
+        if args.out
+        else {}
+    )
     result = record.result()
     if args.json:
         print(json.dumps(result, indent=2))
@@ -341,6 +369,46 @@ def cmd_run(args: argparse.Namespace) -> int:
     width = max(len(name) for name, _ in rows)
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
+    return 0
+
+
+def _check_ffmpeg(mp4: bool) -> None:
+    from mrexplore.viz import ffmpeg_path
+
+    if mp4 and ffmpeg_path() is None:
+        raise MrexploreInputError("--mp4 needs ffmpeg on PATH (e.g. apt-get install ffmpeg)")
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    import time
+    from pathlib import Path
+
+    from mrexplore.viz import save_animation
+    from mrexplore.viz.replay import load_run, replay_html
+
+    _check_ffmpeg(args.mp4)
+    started = time.perf_counter()
+    trace, result = load_run(args.run_dir)
+    out = Path(args.out) if args.out else Path(args.run_dir) / "replay.html"
+    out.write_text(replay_html(trace, result), encoding="utf-8")
+    written = [out]
+    title = f"{result.get('strategy', '')}, {result.get('n_robots', '')} robots on " + str(
+        result.get("map_name", "")
+    )
+    for wanted, suffix in ((args.gif, "gif"), (args.mp4, "mp4")):
+        if wanted:
+            written.append(
+                save_animation(
+                    Path(args.run_dir) / f"run.{suffix}",
+                    trace,
+                    max_frames=args.max_frames,
+                    belief_panels=args.belief_panels,
+                    title=title if result else "",
+                )
+            )
+    for path in written:
+        print(f"{path}  ({path.stat().st_size / 1e6:.2f} MB)")
+    print(f"{time.perf_counter() - started:.1f} s")
     return 0
 
 
@@ -485,6 +553,7 @@ COMMANDS = {
     "query": cmd_query,
     "report": cmd_report,
     "reproduce": cmd_reproduce,
+    "replay": cmd_replay,
 }
 
 

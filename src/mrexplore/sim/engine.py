@@ -40,7 +40,13 @@ from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BeliefGrid, new_be
 from mrexplore.planning import distance_field, extract_path
 from mrexplore.seeding import make_streams
 from mrexplore.sensing import visible_cells
-from mrexplore.sim.record import RunRecord
+from mrexplore.sim.record import (
+    BELIEF_CELLS_AUTO,
+    RunRecord,
+    component_labels,
+    mark_known,
+    pack_links,
+)
 from mrexplore.sim.scenario import Cell, Scenario
 from mrexplore.sim.world import World, build_world, cells_from_length
 from mrexplore.strategies.base import Decision, RobotView, Strategy
@@ -84,7 +90,13 @@ class Robot:
 class Simulation:
     """One run of one scenario; call :meth:`run` once."""
 
-    def __init__(self, scenario: Scenario) -> None:
+    def __init__(self, scenario: Scenario, *, record_beliefs: bool | None = None) -> None:
+        """Prepare a run of ``scenario``.
+
+        ``record_beliefs`` records every robot's own ``robot_first_known`` in the
+        run record (``None``: only when robots x cells <= ``BELIEF_CELLS_AUTO``);
+        it changes nothing else in the run.
+        """
         scenario.validate()
         get_strategy(scenario.strategy)  # fail early on an unknown id
         self.scenario = scenario
@@ -127,6 +139,11 @@ class Simulation:
         for robot in self.robots:
             self.occupant[robot.position] = robot.id
         self.first_known = np.full(shape, -1, dtype=np.int32)
+        if record_beliefs is None:
+            record_beliefs = n * shape[0] * shape[1] <= BELIEF_CELLS_AUTO
+        self.robot_first_known = (
+            np.full((n, *shape), -1, dtype=np.int32) if record_beliefs else None
+        )
         self.sense_count = np.zeros(shape, dtype=np.uint16)
         self.n_explorable = self.world.n_explorable
         self.known_explorable = 0
@@ -401,8 +418,23 @@ class Simulation:
         distance_log: list[npt.NDArray[np.float64]] = []
         goals_log: list[npt.NDArray[np.int32]] = []
         known_log: list[int] = []
+        component_log: list[npt.NDArray[np.int16]] = []
+        links_log: list[npt.NDArray[np.uint8]] = []
+        n_robots = len(self.robots)
 
-        def record() -> None:
+        last_links: list[frozenset[tuple[int, int]]] = []
+
+        def record(tick: int) -> None:
+            component_log.append(component_labels(self.comm.subnetworks(), n_robots))
+            links = self.comm.links()
+            if last_links and links == last_links[0]:  # most ticks: no link changed
+                links_log.append(links_log[-1])
+            else:
+                links_log.append(pack_links(links, n_robots))
+                last_links[:] = [links]
+            if self.robot_first_known is not None:
+                for robot in self.robots:
+                    mark_known(robot.belief, self.robot_first_known[robot.id], tick, UNKNOWN)
             positions.append(np.array([r.position for r in self.robots], dtype=np.int32))
             alive_log.append(np.array([r.alive for r in self.robots], dtype=bool))
             distance_log.append(np.array([r.distance for r in self.robots], dtype=np.float64))
@@ -415,7 +447,7 @@ class Simulation:
         self._update_links(0)
         self._sense(0)
         self.comm.flush(0)
-        record()
+        record(0)
         status = "max_ticks"
         last_progress_tick, last_known = 0, self.known_explorable
         idle_streak = 0
@@ -432,7 +464,7 @@ class Simulation:
                 self._move()
                 self._sense(tick)
                 self.comm.flush(tick)
-                record()
+                record(tick)
                 if progress is not None:
                     progress(tick, self.known_explorable / self.n_explorable)
                 if self.known_explorable >= target:
@@ -487,6 +519,9 @@ class Simulation:
             sharing_metrics=self.sharing.metrics(),
             sharing=self.sharing_id,
             max_ticks=self.max_ticks,
+            component=np.stack(component_log),
+            link_bits=np.stack(links_log),
+            robot_first_known=self.robot_first_known,
         )
 
 

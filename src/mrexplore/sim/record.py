@@ -23,16 +23,43 @@ subnetworks       T+1 int64           number of sub-networks at each tick
 group_diameter    T+1 float64         largest distance between two robots (cells)
 sensor_range      () float64          sensor radius in cells
 speed             () float64          cells of path per tick
+component         T+1 x N int16       sub-network of each robot during the tick, -1
+                                      failed (optional)
+link_bits         T+1 x B uint8       direct links during the tick, packed (optional)
+robot_first_known N x H x W int32     first tick robot i knew the cell, -1 never
+                                      (optional)
 ================  ==================  ==============================================
+
+The last three arrays feed the animations and the HTML replay (:mod:`mrexplore.viz`);
+traces written before they existed lack them, and every reader treats them as
+optional (:func:`load_trace` loads any ``trace.npz``).
+
+* ``component[t, i]`` is the index of robot ``i``'s sub-network in the list of
+  connected components of the link graph in force during tick ``t`` (components
+  ordered by their lowest robot id, so the group holding robot 0 is 0), ``-1`` for
+  a robot that has failed by then. ``subnetworks[t]`` is the number of labels.
+* ``link_bits[t]`` is ``numpy.packbits`` of the ``N (N - 1) / 2`` flags "robots
+  ``a < b`` are linked" in the order (0, 1), (0, 2), ..., (0, N-1), (1, 2), ...;
+  :func:`unpack_links` turns it back into pairs or an ``N x N`` matrix.
+  The links of tick ``t`` are those the communication model computed at its start,
+  from the positions at the end of tick ``t - 1`` (tick 0: the start cells).
+* ``robot_first_known[i]`` is the first tick at whose end robot ``i``'s own belief
+  held the cell as free or occupied, whether it sensed the cell or was told about
+  it. It costs ``4 N H W`` bytes in memory, so the simulator records it only when
+  asked (``Simulation(..., record_beliefs=True)``, ``mrexplore run
+  --belief-panels``) or, by default, when ``N H W <= BELIEF_CELLS_AUTO``.
 """
 
 from __future__ import annotations
 
+import itertools
 import json
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numba
 import numpy as np
 import numpy.typing as npt
 
@@ -40,6 +67,85 @@ from mrexplore import __version__
 from mrexplore.metrics import group_diameter, json_safe, summarize
 from mrexplore.sim.scenario import Scenario
 from mrexplore.sim.world import World
+
+#: Default limit on ``N x H x W`` (robots x cells) up to which every robot's own
+#: ``robot_first_known`` is recorded (32 MiB of int32); above it only on request.
+BELIEF_CELLS_AUTO = 2**23
+
+#: Arrays that traces written by older versions lack.
+OPTIONAL_TRACE_ARRAYS = ("component", "link_bits", "robot_first_known")
+
+
+def n_link_pairs(n_robots: int) -> int:
+    """How many unordered robot pairs ``a < b`` a team of ``n_robots`` has."""
+    return n_robots * (n_robots - 1) // 2
+
+
+def pack_links(links: Iterable[tuple[int, int]], n_robots: int) -> npt.NDArray[np.uint8]:
+    """One row of ``link_bits``: the links ``(a, b)`` as packed pair flags.
+
+    >>> pack_links([(0, 1), (1, 2)], 3).tolist()
+    [160]
+    """
+    flags = np.zeros(n_link_pairs(n_robots), dtype=bool)
+    flat = itertools.chain.from_iterable(links)
+    pairs = np.fromiter(flat, dtype=np.int64).reshape(-1, 2)
+    low, high = pairs.min(axis=1), pairs.max(axis=1)
+    flags[low * n_robots - low * (low + 1) // 2 + (high - low - 1)] = True
+    packed: npt.NDArray[np.uint8] = np.packbits(flags)
+    return packed
+
+
+def unpack_links(link_bits: npt.ArrayLike, n_robots: int) -> npt.NDArray[np.bool_]:
+    """``link_bits`` (one row, or ``T+1`` rows) as symmetric ``N x N`` link matrices.
+
+    >>> matrix = unpack_links(pack_links([(0, 2)], 3), 3)
+    >>> matrix.astype(int).tolist()
+    [[0, 0, 1], [0, 0, 0], [1, 0, 0]]
+    """
+    bits = np.asarray(link_bits, dtype=np.uint8)
+    rows = bits.reshape(-1, bits.shape[-1]) if bits.ndim else bits.reshape(1, 1)
+    flags = np.unpackbits(rows, axis=1, count=n_link_pairs(n_robots)).astype(bool)
+    low, high = np.triu_indices(n_robots, k=1)
+    matrix = np.zeros((rows.shape[0], n_robots, n_robots), dtype=bool)
+    matrix[:, low, high] = flags
+    matrix[:, high, low] = flags
+    result: npt.NDArray[np.bool_] = matrix if bits.ndim > 1 else matrix[0]
+    return result
+
+
+def component_labels(groups: Iterable[Iterable[int]], n_robots: int) -> npt.NDArray[np.int16]:
+    """One row of ``component``: the index of each robot's group, -1 if in none.
+
+    >>> component_labels([{0, 2}, {1}], 4).tolist()
+    [0, 1, 0, -1]
+    """
+    labels = np.full(n_robots, -1, dtype=np.int16)
+    for label, group in enumerate(groups):
+        labels[list(group)] = label
+    return labels
+
+
+@numba.njit(cache=True, nogil=True)
+def mark_known(
+    belief: npt.NDArray[np.int8], first_known: npt.NDArray[np.int32], tick: int, unknown: int
+) -> None:  # pragma: no cover - compiled
+    """Set ``first_known`` to ``tick`` where it is -1 and ``belief`` is not ``unknown``."""
+    height, width = belief.shape
+    for row in range(height):
+        for col in range(width):
+            if first_known[row, col] < 0 and belief[row, col] != unknown:
+                first_known[row, col] = tick
+
+
+def load_trace(path: str | Path) -> dict[str, np.ndarray]:
+    """Every array of a ``trace.npz`` (any version) as a dict of numpy arrays.
+
+    Traces written before :data:`OPTIONAL_TRACE_ARRAYS` existed simply lack those
+    keys; nothing is invented for them.
+    """
+    with np.load(Path(path), allow_pickle=False) as data:
+        return {name: data[name] for name in data.files}
 
 
 @dataclass
@@ -79,10 +185,13 @@ class RunRecord:
     queue_delay_mean: float
     sharing_metrics: dict[str, Any]
     sharing: str
+    component: npt.NDArray[np.int16] | None = None
+    link_bits: npt.NDArray[np.uint8] | None = None
+    robot_first_known: npt.NDArray[np.int32] | None = None
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
         """The arrays of ``trace.npz``."""
-        return {
+        arrays: dict[str, np.ndarray] = {
             "truth": self.world.grid.truth_uint8(),
             "explorable": self.world.explorable,
             "positions": self.positions,
@@ -101,6 +210,11 @@ class RunRecord:
             "sensor_range": np.array(self.world.sensor_range_cells, dtype=np.float64),
             "speed": np.array(self.scenario.speed, dtype=np.float64),
         }
+        for name in OPTIONAL_TRACE_ARRAYS:
+            value = getattr(self, name)
+            if value is not None:
+                arrays[name] = value
+        return arrays
 
     def result(self) -> dict[str, Any]:
         """The content of ``result.json``: scenario, map, metrics, provenance."""
@@ -152,15 +266,30 @@ class RunRecord:
         )
         return json_safe(out)
 
-    def save(self, out_dir: str | Path, *, gif: bool = False, png: bool = True) -> dict[str, Path]:
-        """Write ``result.json``, ``trace.npz``, ``final.png`` (and ``run.gif``)."""
+    def save(
+        self,
+        out_dir: str | Path,
+        *,
+        gif: bool = False,
+        png: bool = True,
+        mp4: bool = False,
+        belief_panels: bool = False,
+        max_frames: int | None = None,
+    ) -> dict[str, Path]:
+        """Write ``result.json``, ``trace.npz``, ``final.png`` (and ``run.gif``, ``run.mp4``).
+
+        The animations are those of :func:`mrexplore.viz.save_animation` (links,
+        targets, header; one panel per robot's own belief with ``belief_panels``,
+        which needs ``robot_first_known``); ``max_frames`` defaults to 300. An MP4
+        needs ``ffmpeg`` on ``PATH``.
+        """
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         written = {"result": out / "result.json", "trace": out / "trace.npz"}
         arrays = self.trace_arrays()
         np.savez_compressed(written["trace"], **arrays)  # type: ignore[arg-type]  # stub types allow_pickle as **kwds
         written["result"].write_text(json.dumps(self.result(), indent=2) + "\n")
-        if png or gif:
+        if png or gif or mp4:
             from mrexplore import viz
 
             title = (
@@ -177,12 +306,14 @@ class RunRecord:
                     alive=self.alive,
                     explorable=self.world.explorable,
                 )
-            if gif:
-                written["gif"] = viz.save_gif(
-                    out / "run.gif",
-                    arrays["truth"],
-                    self.first_known,
-                    self.positions,
-                    alive=self.alive,
-                )
+            frames = {"max_frames": max_frames} if max_frames is not None else {}
+            for wanted, name in ((gif, "gif"), (mp4, "mp4")):
+                if wanted:
+                    written[name] = viz.save_animation(
+                        out / f"run.{name}",
+                        arrays,
+                        belief_panels=belief_panels,
+                        title=title,
+                        **frames,
+                    )
         return written

@@ -1,14 +1,25 @@
-"""Pictures of a run: animation frames, GIFs and summary figures.
+"""Pictures of a run: animation frames, GIFs, MP4s, HTML replays and summary figures.
 
-Everything here reads a run record (``truth``, ``first_known``, ``positions`` and
-optionally ``alive``, see :mod:`mrexplore.viz.render`) and writes images. Frames and
-GIFs are pure numpy + Pillow; the figures use matplotlib, which is imported inside
-the functions that draw them, so ``import mrexplore.viz`` stays light and works
-without the ``viz`` extra installed.
+Everything here reads a run record (the arrays of ``trace.npz``: ``truth``,
+``first_known``, ``positions`` and optionally ``alive``, ``goals``, ``component``,
+``link_bits``, ``robot_first_known``, see :mod:`mrexplore.sim.record`) and writes
+images, so any saved run can be viewed later:
+
+* :mod:`mrexplore.viz.render`: single frames, a plain GIF, the summary PNG;
+* :mod:`mrexplore.viz.animate`: the run's animation (GIF or MP4) with links,
+  targets, a header and optional per-robot belief panels;
+* :mod:`mrexplore.viz.replay`: the self-contained ``replay.html``;
+* :mod:`mrexplore.viz.plots`: figures of sweeps (curves with bands, metric vs a
+  scenario value, bytes by type, group diameter), one colour per strategy.
+
+Frames, GIFs and replays are pure numpy + Pillow; the figures use matplotlib,
+which is imported inside the functions that draw them, so ``import mrexplore.viz``
+stays light and works without the ``viz`` extra installed.
 """
 
 from __future__ import annotations
 
+from mrexplore.viz.animate import RunAnimator, ffmpeg_path, save_animation
 from mrexplore.viz.render import (
     KNOWN_FREE_RGB,
     KNOWN_OCCUPIED_RGB,
@@ -22,6 +33,7 @@ from mrexplore.viz.render import (
     save_final_png,
     save_gif,
 )
+from mrexplore.viz.replay import replay_html, write_replay
 
 __all__ = [
     "KNOWN_FREE_RGB",
@@ -29,10 +41,15 @@ __all__ = [
     "ROBOT_COLOURS",
     "UNKNOWN_FREE_RGB",
     "UNKNOWN_OCCUPIED_RGB",
+    "RunAnimator",
     "coverage_plot_png",
+    "ffmpeg_path",
     "frame_ticks",
     "render_frame",
+    "replay_html",
     "robot_colour",
+    "save_animation",
     "save_final_png",
     "save_gif",
+    "write_replay",
 ]

@@ -99,6 +99,8 @@ LABELS: dict[str, str] = {
     "latency": "latency (ticks per hop)",
     "loss": "loss probability",
     "tick": "time (ticks)",
+    "group_diameter": "group diameter (cells)",
+    "subnetworks": "number of sub-networks",
 }
 
 
@@ -423,6 +425,40 @@ def plot_curves(
     if levels:
         ax.legend(title=f"{hue} (band: {band_text})", fontsize=8, title_fontsize=8, loc="best")
     return _save(fig, path, dpi)
+
+
+def plot_group_diameter(
+    curves: pa.Table,
+    runs: pa.Table,
+    path: str | os.PathLike[str],
+    *,
+    hue: str = "strategy",
+    band: Literal["ci", "range"] = "ci",
+    title: str = "",
+    dpi: int = 110,
+) -> Path:
+    """Group diameter over time (Sheng et al., Fig. 11): mean over the runs of each ``hue``.
+
+    The group diameter is the largest distance in cells between two robots at a
+    tick (``group_diameter`` in the ``curves`` table and in ``trace.npz``); it
+    shows whether a strategy keeps the team together (a connected network) or
+    spreads it out. Bands and the handling of runs of different lengths are those
+    of :func:`plot_curves`.
+
+    Returns:
+        The path written, as a :class:`~pathlib.Path`.
+    """
+    band_text = "95% CI of the mean" if band == "ci" else "min-max over runs"
+    return plot_curves(
+        curves,
+        runs,
+        path,
+        y="group_diameter",
+        hue=hue,
+        band=band,
+        title=title or f"group diameter over time (mean over seeds, band: {band_text})",
+        dpi=dpi,
+    )
 
 
 # --------------------------------------------------------------------- bytes by type

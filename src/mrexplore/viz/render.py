@@ -240,10 +240,56 @@ def _block_max(image: UInt8Array, stride: int) -> UInt8Array:
     return reduced
 
 
+def _block_min_ticks(first_known: npt.NDArray[Any], stride: int) -> npt.NDArray[np.int64]:
+    """Reduce by ``stride``: each block's earliest known tick, -1 if none known."""
+    if stride == 1:
+        return np.asarray(first_known, dtype=np.int64)
+    values = np.asarray(first_known, dtype=np.int64)
+    never = np.iinfo(np.int64).max
+    values = np.where(values >= 0, values, never)
+    height, width = values.shape[-2:]
+    out_h, out_w = -(-height // stride), -(-width // stride)
+    padded = np.full((*values.shape[:-2], out_h * stride, out_w * stride), never, np.int64)
+    padded[..., :height, :width] = values
+    blocks = padded.reshape(*values.shape[:-2], out_h, stride, out_w, stride)
+    reduced = blocks.min(axis=(-3, -1))
+    result: npt.NDArray[np.int64] = np.where(reduced == never, -1, reduced)
+    return result
+
+
+def _block_any(mask: npt.NDArray[np.bool_], stride: int) -> npt.NDArray[np.bool_]:
+    if stride == 1:
+        return mask
+    height, width = mask.shape
+    out_h, out_w = -(-height // stride), -(-width // stride)
+    padded = np.zeros((out_h * stride, out_w * stride), dtype=bool)
+    padded[:height, :width] = mask
+    result = np.asarray(padded.reshape(out_h, stride, out_w, stride).any(axis=(1, 3)))
+    return result
+
+
 def _frame_indices(
     trace: _Trace, tick: int, trail: int | None, scale: int, stride: int
 ) -> UInt8Array:
     """The frame at ``tick`` as indices into ``_PALETTE`` (inputs trusted)."""
+    image = _map_and_trails(trace, tick, trail, scale, stride)
+    _draw_robots(image, trace, tick, scale, stride)
+    return image
+
+
+def _map_and_trails(
+    trace: _Trace,
+    tick: int,
+    trail: int | None,
+    scale: int,
+    stride: int,
+    light_trails: bool | None = None,
+) -> UInt8Array:
+    """The team's map at ``tick`` with the paths so far, scaled (palette indices).
+
+    Paths are drawn in the lightened robot colours when ``light_trails`` (default:
+    when cells are at least as big as a robot's square), else in full colour.
+    """
     background = trace.occupied + 2 * (trace.known_from <= tick).view(np.uint8)
     image = _block_max(background, stride) if stride > 1 else background
     n_robots = trace.n_robots
@@ -252,29 +298,54 @@ def _frame_indices(
     # Paths: every visited cell, in time order so the latest visitor's colour wins.
     first = 0 if trail is None else max(0, tick - trail)
     visited = trace.positions[first : tick + 1] // stride
-    trail_base = _I_TRAIL0 if scale >= _MIN_ROBOT_PX else _I_BODY0
+    if light_trails is None:
+        light_trails = scale >= _MIN_ROBOT_PX
+    trail_base = _I_TRAIL0 if light_trails else _I_BODY0
     trail_index = np.broadcast_to(trail_base + palette_offset, visited.shape[:2])
     image[visited[..., 0].ravel(), visited[..., 1].ravel()] = trail_index.ravel()
 
     if scale > 1:
         image = np.repeat(np.repeat(image, scale, axis=0), scale, axis=1)
+    return image
 
-    # Robots are drawn after scaling, so no reduction can make them vanish.
-    side = max(scale, _MIN_ROBOT_PX)
+
+def _robot_side(scale: int) -> int:
+    """Side in pixels of a robot's square (without its outline)."""
+    return max(scale, _MIN_ROBOT_PX)
+
+
+def _draw_robots(
+    image: UInt8Array,
+    trace: _Trace,
+    tick: int,
+    scale: int,
+    stride: int,
+    robots: IntArray | None = None,
+) -> None:
+    """Draw the robots (all, or ``robots``) at ``tick`` on a scaled frame, in place.
+
+    Robots are drawn after scaling, so no reduction can make them vanish.
+    """
+    n_robots = trace.n_robots
+    palette_offset = np.arange(n_robots) % len(ROBOT_COLOURS)
+    side = _robot_side(scale)
     cells = trace.positions[tick] // stride
     tops = cells[:, 0] * scale + (scale - side) // 2
     lefts = cells[:, 1] * scale + (scale - side) // 2
+    chosen = np.arange(n_robots) if robots is None else robots
     # All outlines first, then all bodies: touching robots both stay visible.
-    for top, left in zip(tops, lefts, strict=True):
+    for robot in chosen:
+        top, left = int(tops[robot]), int(lefts[robot])
         image[max(top - 1, 0) : top + side + 1, max(left - 1, 0) : left + side + 1] = _I_OUTLINE
-    for robot, (top, left) in enumerate(zip(tops, lefts, strict=True)):
+    for robot in chosen:
+        top, left = int(tops[robot]), int(lefts[robot])
         image[max(top, 0) : top + side, max(left, 0) : left + side] = (
             _I_BODY0 + palette_offset[robot]
         )
     if trace.alive is not None:
         for dead in np.flatnonzero(~trace.alive[tick]):
-            _cross_out(image, int(tops[dead]), int(lefts[dead]), side)
-    return image
+            if robots is None or dead in chosen:
+                _cross_out(image, int(tops[dead]), int(lefts[dead]), side)
 
 
 def _cross_out(image: UInt8Array, top: int, left: int, side: int) -> None:
@@ -392,7 +463,8 @@ def save_gif(
     Frames share one fixed palette, so they are written exactly, without dithering
     or quantization. Pillow merges a frame identical to the one before it into that
     one (adding up their durations), so a run where nothing moves between sampled
-    ticks yields fewer frames.
+    ticks yields fewer frames, and stores each later frame as its changes only
+    (unchanged pixels transparent), which makes the file about ten times smaller.
 
     Returns:
         The path written, as a :class:`~pathlib.Path`.
@@ -426,7 +498,7 @@ def save_gif(
         append_images=frames[1:],
         duration=durations,
         loop=0,
-        optimize=False,
+        optimize=True,
     )
     return out
 
