@@ -64,12 +64,13 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
 
 def execute(spec: RunSpec) -> RunOutcome:
     """Run one scenario; never raises for a failing run (it is recorded as failed)."""
-    from mrexplore.sim.engine import simulate
+    from mrexplore.sim.engine import Simulation
 
     started = time.perf_counter()
     base = {"run_id": spec.run_id, **scenario_columns(spec.scenario)}
     try:
-        record = simulate(spec.scenario)
+        # Per-robot beliefs are for viewers; a sweep stores no traces.
+        record = Simulation(spec.scenario, record_beliefs=False).run()
         result = record.result()
         trace = record.trace_arrays()
         curves = run_curves(trace, record.bytes_per_tick, spec.curves_every)

@@ -87,6 +87,10 @@ class Robot:
         return 0 if self.path is None else len(self.path) - 1 - self.path_index
 
 
+Decider = Callable[[int, RobotView], Decision]
+"""``decide(robot_id, view) -> Decision``: replaces the strategies in :meth:`Simulation.step`."""
+
+
 class Simulation:
     """One run of one scenario; call :meth:`run` once."""
 
@@ -160,6 +164,22 @@ class Simulation:
         self.decide_seconds = 0.0
         self.decisions = 0
         self.plans = 0
+        # Stepping state (see start/step/finish).
+        self.tick = -1
+        self.status: str | None = None
+        self._started = 0.0
+        self._target = 0
+        self._last_progress_tick = 0
+        self._last_known = 0
+        self._idle_streak = 0
+        self._positions: list[npt.NDArray[np.int32]] = []
+        self._alive_log: list[npt.NDArray[np.bool_]] = []
+        self._distance_log: list[npt.NDArray[np.float64]] = []
+        self._goals_log: list[npt.NDArray[np.int32]] = []
+        self._known_log: list[int] = []
+        self._component_log: list[npt.NDArray[np.int16]] = []
+        self._links_log: list[npt.NDArray[np.uint8]] = []
+        self._last_links: list[frozenset[tuple[int, int]]] = []
 
     # ------------------------------------------------------------------ phases
     def _alive(self) -> frozenset[int]:
@@ -202,36 +222,48 @@ class Simulation:
         for message in self.sharing.drain():
             self._send(dataclasses.replace(message, tick_sent=tick), tick)
 
-    def _decide(self, tick: int) -> None:
-        all_links = self.comm.links()
+    def view_of(
+        self, robot_id: int, all_links: frozenset[tuple[int, int]] | None = None
+    ) -> RobotView:
+        """What robot ``robot_id`` knows at the current tick: the view its strategy gets."""
+        robot = self.robots[robot_id]
+        if all_links is None:
+            all_links = frozenset(self.comm.links())
+        subnetwork = self.comm.subnetwork_of(robot.id)
+        belief_view = robot.belief.view()
+        belief_view.flags.writeable = False
+        return RobotView(
+            robot_id=robot.id,
+            n_robots=len(self.robots),
+            tick=self.tick,
+            position=robot.position,
+            belief=belief_view,
+            goal=robot.goal,
+            path_remaining=robot.path_remaining,
+            arrived=robot.arrived,
+            blocked=robot.blocked,
+            inbox=tuple(robot.inbox),
+            subnetwork=subnetwork,
+            links=frozenset(link for link in all_links if link[0] in subnetwork),
+            comm_latency=self.scenario.latency,
+            comm_range=self.comm_range_cells,
+            sensor_range=self.world.sensor_range_cells,
+            speed=self.scenario.speed,
+            rng=self.streams.robots[robot.id],
+            new_cells=robot.new_cells,
+        )
+
+    def _decide(self, tick: int, decide: Decider | None = None) -> None:
+        all_links = frozenset(self.comm.links())
         for robot in self.robots:
             if not robot.alive:
                 continue
-            subnetwork = self.comm.subnetwork_of(robot.id)
-            belief_view = robot.belief.view()
-            belief_view.flags.writeable = False
-            view = RobotView(
-                robot_id=robot.id,
-                n_robots=len(self.robots),
-                tick=tick,
-                position=robot.position,
-                belief=belief_view,
-                goal=robot.goal,
-                path_remaining=robot.path_remaining,
-                arrived=robot.arrived,
-                blocked=robot.blocked,
-                inbox=tuple(robot.inbox),
-                subnetwork=subnetwork,
-                links=frozenset(link for link in all_links if link[0] in subnetwork),
-                comm_latency=self.scenario.latency,
-                comm_range=self.comm_range_cells,
-                sensor_range=self.world.sensor_range_cells,
-                speed=self.scenario.speed,
-                rng=self.streams.robots[robot.id],
-                new_cells=robot.new_cells,
-            )
+            view = self.view_of(robot.id, all_links)
             started = time.perf_counter()
-            decision = self.strategies[robot.id].decide(view)
+            if decide is None:
+                decision = self.strategies[robot.id].decide(view)
+            else:
+                decision = decide(robot.id, view)
             self.decide_seconds += time.perf_counter() - started
             self.decisions += 1
             robot.inbox.clear()
@@ -409,92 +441,119 @@ class Simulation:
         self.comm.send(message, tick)
 
     # ------------------------------------------------------------------ loop
-    def run(self, progress: Callable[[int, float], None] | None = None) -> RunRecord:
-        """Run to completion, ``max_ticks`` or a stall; return the run record."""
-        scenario = self.scenario
-        started = time.perf_counter()
-        positions: list[npt.NDArray[np.int32]] = []
-        alive_log: list[npt.NDArray[np.bool_]] = []
-        distance_log: list[npt.NDArray[np.float64]] = []
-        goals_log: list[npt.NDArray[np.int32]] = []
-        known_log: list[int] = []
-        component_log: list[npt.NDArray[np.int16]] = []
-        links_log: list[npt.NDArray[np.uint8]] = []
-        n_robots = len(self.robots)
-
-        last_links: list[frozenset[tuple[int, int]]] = []
-
-        def record(tick: int) -> None:
-            component_log.append(component_labels(self.comm.subnetworks(), n_robots))
-            links = self.comm.links()
-            if last_links and links == last_links[0]:  # most ticks: no link changed
-                links_log.append(links_log[-1])
-            else:
-                links_log.append(pack_links(links, n_robots))
-                last_links[:] = [links]
-            if self.robot_first_known is not None:
-                for robot in self.robots:
-                    mark_known(robot.belief, self.robot_first_known[robot.id], tick, UNKNOWN)
-            positions.append(np.array([r.position for r in self.robots], dtype=np.int32))
-            alive_log.append(np.array([r.alive for r in self.robots], dtype=bool))
-            distance_log.append(np.array([r.distance for r in self.robots], dtype=np.float64))
-            goals_log.append(
-                np.array([r.goal if r.goal else (-1, -1) for r in self.robots], dtype=np.int32)
-            )
-            known_log.append(self.known_explorable)
-
-        target = math.ceil(scenario.coverage_threshold * self.n_explorable - 1e-9)
+    # ------------------------------------------------------------------ stepping
+    def start(self) -> None:
+        """Tick 0: links, first sensing, first flush, first record. Called by
+        :meth:`run`; callers that drive the run tick by tick (the RL environment)
+        call it once, then :meth:`step` until :attr:`status` is set."""
+        if self.tick >= 0:
+            raise RuntimeError("Simulation.start() called twice")
+        self._started = time.perf_counter()
+        self.tick = 0
+        self._target = math.ceil(self.scenario.coverage_threshold * self.n_explorable - 1e-9)
         self._update_links(0)
         self._sense(0)
         self.comm.flush(0)
-        record(0)
-        status = "max_ticks"
-        last_progress_tick, last_known = 0, self.known_explorable
-        idle_streak = 0
-        tick = 0
-        if self.known_explorable >= target:
-            status = "complete"
+        self._record(0)
+        self._last_progress_tick, self._last_known = 0, self.known_explorable
+        self._idle_streak = 0
+        if self.known_explorable >= self._target:
+            self.status = "complete"
+        elif self.max_ticks <= 0:
+            self.status = "max_ticks"
+
+    def step(self, decide: Decider | None = None) -> str | None:
+        """One tick: failures, links, delivery, decisions, moves, sensing, flush.
+
+        ``decide(robot_id, view)`` replaces the strategies' decisions when given
+        (it is called for every live robot, in id order, exactly where the strategy
+        would be). Returns the run's status once it is over (``complete``,
+        ``max_ticks``, ``stalled``), else ``None``.
+        """
+        if self.tick < 0:
+            raise RuntimeError("call Simulation.start() before step()")
+        if self.status is not None:
+            raise RuntimeError(f"the run is over ({self.status})")
+        self.tick += 1
+        tick = self.tick
+        self._fail(tick)
+        self._update_links(tick)
+        self._deliver(tick)
+        self._decide(tick, decide)
+        self._move()
+        self._sense(tick)
+        self.comm.flush(tick)
+        self._record(tick)
+        self.status = self._check_end(tick)
+        return self.status
+
+    def _check_end(self, tick: int) -> str | None:
+        if self.known_explorable >= self._target:
+            return "complete"
+        if self.known_explorable > self._last_known:
+            self._last_known, self._last_progress_tick = self.known_explorable, tick
+        elif tick - self._last_progress_tick >= self.stall_ticks:
+            return "stalled"
+        if not any(r.alive for r in self.robots):
+            return "stalled"  # nobody left to explore
+        all_idle = all(r.path is None for r in self.robots if r.alive)
+        idle = all_idle and self.comm.in_flight() == 0
+        self._idle_streak = self._idle_streak + 1 if idle else 0
+        if self._idle_streak >= self.scenario.idle_ticks:
+            return "stalled"
+        if tick >= self.max_ticks:
+            return "max_ticks"
+        return None
+
+    def _record(self, tick: int) -> None:
+        n_robots = len(self.robots)
+        self._component_log.append(component_labels(self.comm.subnetworks(), n_robots))
+        links = self.comm.links()
+        if self._last_links and links == self._last_links[0]:  # most ticks: no link changed
+            self._links_log.append(self._links_log[-1])
         else:
-            while tick < self.max_ticks:
-                tick += 1
-                self._fail(tick)
-                self._update_links(tick)
-                self._deliver(tick)
-                self._decide(tick)
-                self._move()
-                self._sense(tick)
-                self.comm.flush(tick)
-                record(tick)
-                if progress is not None:
-                    progress(tick, self.known_explorable / self.n_explorable)
-                if self.known_explorable >= target:
-                    status = "complete"
-                    break
-                if self.known_explorable > last_known:
-                    last_known, last_progress_tick = self.known_explorable, tick
-                elif tick - last_progress_tick >= self.stall_ticks:
-                    status = "stalled"
-                    break
-                if not any(r.alive for r in self.robots):
-                    status = "stalled"  # nobody left to explore
-                    break
-                all_idle = all(r.path is None for r in self.robots if r.alive)
-                idle_streak = idle_streak + 1 if all_idle and self.comm.in_flight() == 0 else 0
-                if idle_streak >= scenario.idle_ticks:
-                    status = "stalled"
-                    break
-        wall_time = time.perf_counter() - started
+            self._links_log.append(pack_links(links, n_robots))
+            self._last_links[:] = [links]
+        if self.robot_first_known is not None:
+            for robot in self.robots:
+                mark_known(robot.belief, self.robot_first_known[robot.id], tick, UNKNOWN)
+        self._positions.append(np.array([r.position for r in self.robots], dtype=np.int32))
+        self._alive_log.append(np.array([r.alive for r in self.robots], dtype=bool))
+        self._distance_log.append(np.array([r.distance for r in self.robots], dtype=np.float64))
+        self._goals_log.append(
+            np.array([r.goal if r.goal else (-1, -1) for r in self.robots], dtype=np.int32)
+        )
+        self._known_log.append(self.known_explorable)
+
+    def run(self, progress: Callable[[int, float], None] | None = None) -> RunRecord:
+        """Run to completion, ``max_ticks`` or a stall; return the run record."""
+        self.start()
+        while self.status is None:
+            self.step()
+            if progress is not None:
+                progress(self.tick, self.known_explorable / self.n_explorable)
+        return self.finish()
+
+    def finish(self) -> RunRecord:
+        """The run record of the ticks run so far (the status ``max_ticks`` if the
+        run was stopped before it ended by itself)."""
+        if self.tick < 0:
+            raise RuntimeError("call Simulation.start() before finish()")
+        scenario = self.scenario
+        tick = self.tick
+        status = self.status or "max_ticks"
+        wall_time = time.perf_counter() - self._started
         ledger = self.comm.ledger
         return RunRecord(
             scenario=scenario,
             world=self.world,
             status=status,
             ticks=tick,
-            positions=np.stack(positions),
-            alive=np.stack(alive_log),
-            distance=np.stack(distance_log),
-            goals=np.stack(goals_log),
-            known_explorable=np.asarray(known_log, dtype=np.int64),
+            positions=np.stack(self._positions),
+            alive=np.stack(self._alive_log),
+            distance=np.stack(self._distance_log),
+            goals=np.stack(self._goals_log),
+            known_explorable=np.asarray(self._known_log, dtype=np.int64),
             first_known=self.first_known,
             sense_count=self.sense_count,
             sensed_by_robot=np.array([int(r.sensed.sum()) for r in self.robots], dtype=np.int64),
@@ -519,8 +578,8 @@ class Simulation:
             sharing_metrics=self.sharing.metrics(),
             sharing=self.sharing_id,
             max_ticks=self.max_ticks,
-            component=np.stack(component_log),
-            link_bits=np.stack(links_log),
+            component=np.stack(self._component_log),
+            link_bits=np.stack(self._links_log),
             robot_first_known=self.robot_first_known,
         )
 
