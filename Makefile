@@ -25,7 +25,7 @@ typecheck: install
 	$(BIN)/mypy src/mrexplore
 
 test: lint typecheck browser-deps
-	OMP_NUM_THREADS=1 $(BIN)/pytest -q
+	OMP_NUM_THREADS=1 $(BIN)/pytest -q -n auto
 
 # Headless Chromium for the replay's browser test (tests/test_replay.py). Installs
 # Debian's chromium and chromium-driver when missing; never fails the build: without

@@ -133,6 +133,7 @@ def test_query_errors_are_input_errors(tmp_path: Path, capsys: pytest.CaptureFix
     run_sweep(
         sweep_from_dict({"sweep": {"seeds": [1]}, "fixed": {"map": "blank", "size": "16x16"}}),
         tmp_path / "r",
+        workers=1,
         progress=False,
     )
     assert main(["query", str(tmp_path / "r"), "SELECT nope FROM runs"]) == 2

@@ -240,10 +240,12 @@ def test_existing_results_are_never_overwritten(
 
 def test_resume_runs_added_seeds_only(tmp_path: Path) -> None:
     base = {"fixed": {"map": "sheng40", "robots": 2}}
-    run_sweep(sweep_from_dict({"sweep": {"seeds": [1, 2]}, **base}), tmp_path, progress=False)
+    first = sweep_from_dict({"sweep": {"seeds": [1, 2]}, **base})
+    run_sweep(first, tmp_path, workers=1, progress=False)
     summary = run_sweep(
         sweep_from_dict({"sweep": {"seeds": [1, 2, 3]}, **base}),
         tmp_path,
+        workers=1,
         resume=True,
         progress=False,
     )
