@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -296,3 +298,54 @@ def test_limited_comm_a_quarter_of_the_map_completes() -> None:
     )
     assert record.status == "complete"
     assert record.result()["subnetworks_max"] > 1
+
+
+# ------------------------------------------------- event-based vs time-triggered
+def test_time_triggered_rounds_need_a_period() -> None:
+    with pytest.raises(ScenarioError, match="replan_every"):
+        MarketOccupancy(0, 2, event_based=False)
+    MarketOccupancy(0, 2, event_based="false", replan_every=5)  # the --set text form
+
+
+def _request_ticks(params: dict[str, object]) -> dict[int, list[int]]:
+    """Ticks at which each robot opened a round (sent a ``weight_request``)."""
+    simulation = Simulation(
+        Scenario(
+            map="office",
+            size=(60, 60),
+            robots=2,
+            strategy="market-occupancy",
+            seed=1,
+            max_ticks=120,
+            idle_ticks=50,
+            params=params,
+        )
+    )
+    opened: dict[int, list[int]] = {0: [], 1: []}
+
+    def observed(original: Callable[[RobotView], Decision]) -> Callable[[RobotView], Decision]:
+        def decide(view: RobotView) -> Decision:
+            decision = original(view)
+            if any(m.type == WEIGHT_REQUEST for m in decision.messages):
+                opened[view.robot_id].append(view.tick)
+            return decision
+
+        return decide
+
+    for strategy in simulation.strategies:
+        assert isinstance(strategy, MarketOccupancy)
+        strategy.decide = observed(strategy.decide)  # type: ignore[method-assign]  # observe
+    simulation.run()
+    return opened
+
+
+def test_time_triggered_rounds_open_on_the_clock_only() -> None:
+    """``event_based=false``: each robot opens a round at once and then every
+    ``replan_every`` ticks, whether or not it reached its goal."""
+    opened = _request_ticks({"event_based": False, "replan_every": 7})
+    for ticks in opened.values():
+        assert len(ticks) >= 10
+        assert all(b - a == 7 for a, b in pairwise(ticks))
+    events = _request_ticks({})
+    gaps = [b - a for ticks in events.values() for a, b in pairwise(ticks)]
+    assert len(set(gaps)) > 1  # event-based rounds follow the arrivals, not a clock

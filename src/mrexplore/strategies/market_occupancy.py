@@ -65,6 +65,10 @@ name                           symbol    default   unit          meaning
 ``request_timeout``            -         0         ticks         re-send a request when a round
                                                                  gave no goal; 0 = 2 x
                                                                  round_timeout + 2
+``event_based``                -         True      -             rounds open on events (the
+                                                                 paper); False: every
+                                                                 ``replan_every`` ticks only
+                                                                 (time-triggered ablation)
 ``replan_*``                   -                                 see :data:`REPLAN_PARAMS`
                                                                  (``replan_on_target_explored``
                                                                  is False here: an event is
@@ -114,6 +118,11 @@ Interpretations (where the paper is silent):
 * **Events.** A round starts when a robot reaches its goal (§III.B), or has no
   goal, or was blocked (our simulator's events); ``replan_on_target_explored``
   is off by default, so robots keep going to points they see explored on the way.
+* **Without event-based communication** (``event_based=false``, our ablation
+  of the paper's claim that event-based communication saves traffic and time):
+  the events above no longer open rounds; each robot opens one every
+  ``replan_every`` ticks from its previous one (its first at once), and a
+  robot that reached its goal waits for its clock or another robot's round.
 * **Frontier points.** ``grid``: the representative (the cell nearest the
   centroid) of every 8-connected cluster of the frontier cells the requester
   can reach over cells it knows to be free (a frontier cell seen across a
@@ -330,6 +339,9 @@ class MarketOccupancy(FrontierStrategy):
         "rrt_cluster_radius": Param(0.0, "cells", "merge RRT points closer; 0 = sensor range/2"),
         "round_timeout": Param(0, "ticks", "decide with the rows at hand after this; 0 = auto"),
         "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto"),
+        "event_based": Param(
+            True, "", "rounds open on events (goal reached); false: every replan_every ticks"
+        ),
         **REPLAN_PARAMS,
         "replan_on_target_explored": Param(
             False, "", "re-plan when the goal is no longer a frontier cell"
@@ -343,11 +355,17 @@ class MarketOccupancy(FrontierStrategy):
                 f"--set frontier_detector={self.p['frontier_detector']}: "
                 f"choose one of {', '.join(DETECTORS)}"
             )
+        if not self.p["event_based"] and int(self.p["replan_every"]) <= 0:
+            raise ScenarioError(
+                "--set event_based=false: time-triggered rounds need a period, "
+                "e.g. --set replan_every=10"
+            )
         self.rounds: dict[RoundKey, Round] = {}
         self.assigned: dict[int, Cell] = {}  # q_a: each robot's point, from decided rounds
         self.round_number = 0
         self.own_round: RoundKey | None = None
         self.requested_at = -1
+        self.clock_at = -1  # tick of this robot's last round (time-triggered mode)
         self.detector: RrtFrontierDetector | None = None
         self.rounds_decided = 0
         self.grid_fallbacks = 0  # requests where the RRT found no point and the grid did
@@ -441,21 +459,35 @@ class MarketOccupancy(FrontierStrategy):
                     self.rounds[payload.key] = pending
                 pending.rows[payload.robot] = payload.row  # line 4
 
-        if self.needs_plan(view) and self.own_round is None:
-            may_request = self.requested_at < 0 or (
-                view.tick - self.requested_at >= self._request_timeout(view)
-            )
-            if may_request:
-                self._open_round(view, decision)
+        if self.own_round is None and self._round_due(view):
+            self._open_round(view, decision)
         goal = self._decide_rounds(view)
         if goal is not None:
             followed = self._follow(view, goal)
             decision.goal, decision.path = followed.goal, followed.path
         return decision
 
+    def _round_due(self, view: RobotView) -> bool:
+        """Whether this robot opens a round now.
+
+        Event-based (the paper, §III.B): when the re-planning rules fire (goal
+        reached, blocked, no goal), at most once per ``request_timeout``.
+        Time-triggered (``event_based=false``, the ablation): every
+        ``replan_every`` ticks from this robot's last round, whatever happened;
+        a robot that reached its goal waits for its clock (or another robot's round).
+        """
+        if not self.p["event_based"]:
+            return self.clock_at < 0 or view.tick - self.clock_at >= int(self.p["replan_every"])
+        if not self.needs_plan(view):
+            return False
+        return self.requested_at < 0 or (
+            view.tick - self.requested_at >= self._request_timeout(view)
+        )
+
     def _open_round(self, view: RobotView, decision: Decision) -> None:
         """Event: this robot needs a goal; send ``y`` and its row (§III.B, Fig. 4)."""
         self.requested_at = view.tick
+        self.clock_at = view.tick
         points = self.frontier_points(view)
         if points.shape[0] == 0:
             return

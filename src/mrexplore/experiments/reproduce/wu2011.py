@@ -780,8 +780,9 @@ def _settings_section(quick: bool) -> Lines:
         "Choices where the paper is silent or our world differs:",
         "",
         f"- *Map size and sensor range* are not given. We use {MAP_SIZE} cells (the "
-        "generators' default is 100 x 100; 80 x 80 keeps the full reproduction under 20 "
-        "minutes on 2 cores) and the simulator's default sensor range of 8 cells (a tenth "
+        "generators' default is 100 x 100, whose runs cost about 1.5 times the CPU time; "
+        "80 x 80 keeps the 1440 runs near 16 CPU minutes) and the simulator's default "
+        "sensor range of 8 cells (a tenth "
         "of the map side). The maps are ours: Fig. 4 is not in our text copy.",
         "- *WTV and EPV* follow `mrexplore.metrics.regions` (eqs. 8-10): `w'` of an unknown "
         "cell = now + straight-line distance to the closest robot / speed; only explorable "

@@ -1,0 +1,200 @@
+"""Reproduction of the decentralised market paper: the quick run end to end, the
+helpers on hand-made tables, the fall-back without shared maps, and the full run
+(slow)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pyarrow as pa
+import pytest
+
+from mrexplore.cli import main
+from mrexplore.experiments.reproduce import get_reproduction
+from mrexplore.experiments.reproduce import market2018 as repro
+from mrexplore.experiments.store import Store
+
+FIGURES = ("time.png", "coordination_bytes.png", "bytes_by_type.png")
+N_CLAIMS = 6  # time vs centralised (grid, RRT), dispersion, event data, event time, minimal
+VERDICT = re.compile(r"^- \*\*(reproduced|partly|not reproduced)\*\*: (.+)$")
+
+
+def _check_report(out: Path) -> str:
+    text = (out / "report.md").read_text()
+    assert text.startswith(f"# Reproduction: {repro.TITLE}")
+    assert repro.CITATION in text
+    lines = [
+        line for line in text.split("## Verdicts", 1)[1].splitlines() if line.startswith("- **")
+    ]
+    assert len(lines) == N_CLAIMS
+    for line in lines:
+        assert VERDICT.match(line), line
+    for claim in (
+        repro.PAPER_QUICK,
+        repro.PAPER_DISPERSED,
+        repro.PAPER_EVENT_LESS_DATA,
+        repro.PAPER_EVENT_FASTER,
+        repro.PAPER_MINIMAL,
+    ):
+        assert claim in text
+    assert f"{repro.PAPER_ENVIRONMENTS} environments" in text
+    assert "1 to 3 robots" in text
+    for name in FIGURES:
+        assert (out / name).stat().st_size > 1000, name
+        assert f"]({name})" in text
+    return text
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("market2018-quick")
+    assert main(["reproduce", "market2018", "--quick", "--out", str(out), "--no-progress"]) == 0
+    return out
+
+
+def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
+    text = _check_report(quick_run)
+    assert "**Quick run**" in text.split("## Settings")[0]
+    assert "Fallback" not in text
+    for arm in ("centralised", "decentralised", "rrt", "timer"):
+        assert (quick_run / f"office-{arm}" / "runs").is_dir()
+    arms = text.split("## Arms", 1)[1].split("## Exploration time", 1)[0]
+    for arm in repro.ARMS:
+        assert f"`{arm}`" in arms
+
+
+def test_report_without_shared_maps_says_so(quick_run: Path, tmp_path: Path) -> None:
+    stores = {
+        path.name: Store(path) for path in sorted(quick_run.iterdir()) if (path / "runs").is_dir()
+    }
+    report = repro.report(stores, tmp_path, False, maps_root=tmp_path / "no-maps")
+    text = report.read_text()
+    assert "**Fallback**" in text
+    assert "`office` map is used" in text
+
+
+def test_registered() -> None:
+    reproduction = get_reproduction("market2018")
+    assert reproduction is repro.REPRODUCTION
+    assert reproduction.id == "market2018"
+
+
+def test_full_sweeps_cover_the_arms_maps_and_team_sizes() -> None:
+    sweeps = repro.sweeps(False)
+    assert repro.maps_present()  # the test machine has ../shared/maps
+    maps = ("intel", "house", "office")
+    arms = ("centralised", "decentralised", "rrt", "timer")
+    assert list(sweeps) == [f"{m}-{a}" for m in maps for a in arms]
+    n = len(repro.SEEDS) * len(repro.TEAM_SIZES)
+    for name, sweep in sweeps.items():
+        expected = 2 * n if name.endswith(("-decentralised", "-timer")) else n
+        assert len(sweep) == expected, name
+    scenario = sweeps["intel-timer"].runs()[0].scenario
+    assert scenario.map.endswith("ros/intel.yaml") and Path(scenario.map).is_file()
+    assert scenario.cell_size == repro.CELL_SIZE_M and scenario.sensor_range == "3m"
+    assert scenario.params["event_based"] is False
+    assert scenario.idle_ticks > max(repro.TIMER_PERIODS)
+
+
+def test_sweeps_fall_back_to_the_office_map(tmp_path: Path) -> None:
+    sweeps = repro.sweeps(False, tmp_path / "no-maps")
+    assert {name.split("-", 1)[0] for name in sweeps} == {"office"}
+    assert not repro.maps_present(tmp_path / "no-maps")
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def test_arm_of_every_arm() -> None:
+    rows = [
+        ({"strategy": "burgard"}, "centralised"),
+        ({"strategy": "market-occupancy"}, "decentralised"),
+        ({"strategy": "market-occupancy", "param_lambda_f": 0.0}, "decentralised"),
+        ({"strategy": "market-occupancy", "param_lambda_f": 1e-9}, "no-occupancy"),
+        ({"strategy": "market-occupancy", "param_frontier_detector": "rrt"}, "rrt"),
+        (
+            {"strategy": "market-occupancy", "param_event_based": False, "param_replan_every": 10},
+            "timer-10",
+        ),
+        (
+            {"strategy": "market-occupancy", "param_event_based": True, "param_replan_every": 10},
+            "decentralised",
+        ),
+    ]
+    for row, arm in rows:
+        assert repro.arm_of(row) == arm, row
+
+
+def _runs() -> pa.Table:
+    return pa.table(
+        {
+            "strategy": ["burgard", "burgard", "market-occupancy", "market-occupancy", "burgard"],
+            "param_event_based": [None, None, True, True, None],
+            "robots": [2, 2, 2, 2, 2],
+            "seed": [1, 2, 1, 2, 3],
+            "status": ["complete", "complete", "complete", "max_ticks", "failed"],
+            "T99": [100, 120, 90, None, None],
+            "ticks": [110, 130, 95, 400, None],
+            "bytes_total": [1000, 1100, 2000, 2600, None],
+            "bytes_by_type_map_update": [900, 980, 1500, 1800, None],
+            "bytes_by_type_status": [60, 70, None, None, None],
+            "bytes_by_type_assign": [40, 50, None, None, None],
+            "bytes_by_type_weight_request": [None, None, 200, 300, None],
+            "bytes_by_type_weights": [None, None, 300, 500, None],
+            "messages_by_type_weight_request": [None, None, 4, 6, None],
+            "messages_by_type_weights": [None, None, 8, 12, None],
+            "group_diameter_mean": [10.0, 12.0, 20.0, 22.0, None],
+        }
+    )
+
+
+def test_run_numbers_and_cell_summaries() -> None:
+    numbers = repro.run_numbers(_runs(), "intel")
+    assert len(numbers) == 4  # the failed run is left out
+    by_seed = {(n.arm, n.seed): n for n in numbers}
+    centralised = by_seed[("centralised", 1)]
+    assert centralised.coordination_bytes == 100.0 and centralised.negotiation_bytes == 0.0
+    decentralised = by_seed[("decentralised", 2)]
+    assert decentralised.time == 400.0 and not decentralised.reached  # censored at its end
+    assert decentralised.negotiation_bytes == 800.0 == decentralised.coordination_bytes
+    assert decentralised.negotiation_messages == 18.0
+    assert decentralised.bytes_by_type == {
+        "map_update": 1800.0,
+        "weight_request": 300.0,
+        "weights": 500.0,
+    }
+    times = repro.cell_summaries(numbers, "time")[("intel", 2)]
+    assert times["centralised"].mean == 110.0
+    assert times["decentralised"].mean == 245.0 and times["decentralised"].n == 2
+    difference = repro.paired(
+        repro.by_cell(numbers, "time")[("intel", 2)], "decentralised", "centralised"
+    )
+    assert difference.mean == pytest.approx(((90 - 100) + (400 - 120)) / 2)
+
+
+def test_count_outcome() -> None:
+    assert repro.count_outcome(6, 6) == "reproduced"
+    assert repro.count_outcome(3, 6) == "partly"
+    assert repro.count_outcome(2, 6) == "not reproduced"
+    assert repro.count_outcome(0, 0) == "not reproduced"
+
+
+def test_map_setups_convert_metres() -> None:
+    setups = {s.key: s for s in repro.map_setups(False)}
+    assert list(setups) == ["intel", "house", "office"]
+    assert setups["intel"].settings["sensor_range"] == "3m"
+    assert setups["office"].settings["sensor_range"] == pytest.approx(15.0)
+    assert [s.key for s in repro.map_setups(True)] == ["office"]
+
+
+# ------------------------------------------------------------------ full run
+
+
+@pytest.mark.slow
+def test_full_reproduction(tmp_path: Path) -> None:
+    assert main(["reproduce", "market2018", "--out", str(tmp_path), "--no-progress"]) == 0
+    text = _check_report(tmp_path)
+    assert "**Quick run**" not in text
+    for name in repro.sweeps(False):
+        assert (tmp_path / name / "runs").is_dir()
