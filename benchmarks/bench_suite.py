@@ -1,21 +1,30 @@
 """The performance suite of `make bench`: scenarios S1-S6 and the scaling table.
 
     python benchmarks/bench_suite.py [--only S1 S3] [--repeat 3] [--scaling] [--no-scenarios]
-                                     [--out benchmarks/results] [--record]
+                                     [--timeout SECONDS] [--out benchmarks/results] [--record]
 
 Per scenario (median of ``--repeat`` runs, each in a fresh process so that peak
-memory is its own): wall time per run, ticks, decisions (ticks on which at least
-one robot decided), plans (robot decisions), time per decision, peak resident
-memory, and the floor ratio
+memory is its own): wall time per run, ticks, decisions (decide calls: one per live
+robot per tick), plans (decide calls that changed a robot's goal or idled it),
+searching robots (decide calls that computed at least one distance field, counted by
+:func:`mrexplore.planning.distance.fields_computed`), time per decision, peak
+resident memory, and the floor ratio
 
-    floor ratio = time per decision / (t_field x robots that decided per decision)
-                = decide seconds / (t_field x plans)
+    floor ratio = decide seconds / (t_field x searching robots)
 
 where t_field is the median time of one full distance field on that map (every
 free cell of the ground truth passable, from the first start cell): the least a
-decision costs if every deciding robot computes one field. Compilation is not
-timed: every child warms the numba cache first (it is cached on disk between
-processes anyway).
+decision costs if every robot that searched computed one full field.
+
+"Robots that decided" are the robots whose decide call searched, not the robots
+that changed goal: an auction strategy (sheng-bidding) computes fields to bid in
+many calls that end without a new goal (S1, seed 1: 279 decide calls computed 847
+fields, and only 88 changed a goal), so dividing by plans charged it for work the
+count did not see. Calls that search nothing (a robot travelling on, a bid
+waiting) cost Python time only; they are in the numerator, so the ratio still
+shows per-call overhead, which dominates on small maps where t_field is tens of
+microseconds (see docs/performance.md). Compilation is not timed: every child warms
+the numba cache first (it is cached on disk between processes anyway).
 
 Writes ``OUT/latest.json`` and ``OUT/latest.md``; with ``--record`` also appends
 the Markdown table, the machine and the commit to ``benchmarks/RESULTS.md``
@@ -160,8 +169,8 @@ def child_run(settings: dict[str, Any]) -> dict[str, Any]:
     wall = time.perf_counter() - started
     result = record.result()
     t_field = _field_time(record)
-    plans = max(record.plans, 1)
     decisions = max(record.decisions, 1)
+    searching = max(getattr(record, "field_decisions", record.plans), 1)
     return {
         "status": record.status,
         "ticks": record.ticks,
@@ -169,11 +178,14 @@ def child_run(settings: dict[str, Any]) -> dict[str, Any]:
         "wall_s": wall,
         "decisions": record.decisions,
         "plans": record.plans,
+        "searching": searching,
+        "fields": getattr(record, "fields", None),
         "decide_s": record.decide_seconds,
         "ms_per_decision": 1000 * record.decide_seconds / decisions,
-        "robots_per_decision": record.plans / decisions,
+        "robots_per_decision": searching / decisions,
         "field_ms": 1000 * t_field,
-        "floor_ratio": record.decide_seconds / (t_field * plans),
+        "floor_ratio": record.decide_seconds / (t_field * searching),
+        "floor_ratio_per_plan": record.decide_seconds / (t_field * max(record.plans, 1)),
         "peak_rss_mb": _peak_rss_mb(),
         "map_shape": list(record.world.grid.shape),
     }
@@ -211,10 +223,22 @@ def child_sweep(definition: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def run_child(kind: str, payload: dict[str, Any]) -> dict[str, Any]:
+def run_child(kind: str, payload: dict[str, Any], timeout: float | None = None) -> dict[str, Any]:
+    """One run (or sweep) in a fresh process; a run that exceeds ``timeout`` seconds is
+    stopped and reported as not finished."""
     command = [sys.executable, __file__, "--child", kind, json.dumps(payload)]
     env = dict(os.environ, OMP_NUM_THREADS="1")
-    done = subprocess.run(command, capture_output=True, text=True, check=False, env=env)
+    try:
+        done = subprocess.run(
+            command, capture_output=True, text=True, check=False, env=env, timeout=timeout
+        )
+    except subprocess.TimeoutExpired:
+        return {
+            "status": f"not finished within {timeout:.0f} s",
+            "timed_out": True,
+            "wall_s": float(timeout or 0.0),
+            "peak_rss_mb": float("nan"),
+        }
     if done.returncode != 0:
         raise RuntimeError(f"child failed: {done.stderr.strip().splitlines()[-1:]}")
     result: dict[str, Any] = json.loads(done.stdout.strip().splitlines()[-1])
@@ -223,6 +247,10 @@ def run_child(kind: str, payload: dict[str, Any]) -> dict[str, Any]:
 
 def median_of(results: list[dict[str, Any]]) -> dict[str, Any]:
     """The run with the median wall time, plus the spread of wall times."""
+    if any(r.get("timed_out") for r in results):
+        chosen = dict(next(r for r in results if r.get("timed_out")))
+        chosen["wall_all_s"] = [round(r["wall_s"], 3) for r in results]
+        return chosen
     ordered = sorted(results, key=lambda r: r["wall_s"])
     chosen = dict(ordered[len(ordered) // 2])
     chosen["wall_all_s"] = [round(r["wall_s"], 3) for r in results]
@@ -230,7 +258,9 @@ def median_of(results: list[dict[str, Any]]) -> dict[str, Any]:
     return chosen
 
 
-def scenario_table(ids: list[str], repeat: int) -> dict[str, dict[str, Any]]:
+def scenario_table(
+    ids: list[str], repeat: int, timeout: float | None = None
+) -> dict[str, dict[str, Any]]:
     rows: dict[str, dict[str, Any]] = {}
     for key in ids:
         spec = SCENARIOS[key]
@@ -241,15 +271,17 @@ def scenario_table(ids: list[str], repeat: int) -> dict[str, dict[str, Any]]:
         results = []
         for _ in range(repeat):
             if "sweep" in spec:
-                results.append(run_child("sweep", spec["sweep"]))
+                results.append(run_child("sweep", spec["sweep"], timeout))
             else:
-                results.append(run_child("run", spec["scenario"]))
+                results.append(run_child("run", spec["scenario"], timeout))
+            if results[-1].get("timed_out"):
+                break  # the other repeats would time out too
         rows[key] = {"about": spec["about"], **median_of(results)}
         print(f"{key}: {json.dumps(rows[key])}", flush=True)
     return rows
 
 
-def scaling_table(repeat: int) -> list[dict[str, Any]]:
+def scaling_table(repeat: int, timeout: float | None = None) -> list[dict[str, Any]]:
     """Time per decision over the first SCALING_TICKS ticks of office maps of growing
     size and teams of growing size (nearest-frontier)."""
     out = []
@@ -263,7 +295,10 @@ def scaling_table(repeat: int) -> list[dict[str, Any]]:
                 "sensor_range": 10,
                 "max_ticks": SCALING_TICKS,
             }
-            results = [run_child("run", settings) for _ in range(repeat)]
+            results = [run_child("run", settings, timeout) for _ in range(repeat)]
+            if any(r.get("timed_out") for r in results):
+                print(f"scaling: {side} x {side}, {robots} robots: not finished", flush=True)
+                continue
             chosen = median_of(results)
             row = {
                 "side": side,
@@ -280,6 +315,25 @@ def scaling_table(repeat: int) -> list[dict[str, Any]]:
     return out
 
 
+def _head_commit() -> str:
+    """The checked-out commit, read from ``.git`` (short hash; ``?`` if unknown)."""
+    git = HERE.parent / ".git"
+    try:
+        head = (git / "HEAD").read_text().strip()
+        if head.startswith("ref: "):
+            ref = head[5:]
+            path = git / ref
+            if path.exists():
+                return path.read_text().strip()[:7]
+            for line in (git / "packed-refs").read_text().splitlines():
+                if line.endswith(" " + ref):
+                    return line.split()[0][:7]
+            return "?"
+        return head[:7]
+    except OSError:
+        return "?"
+
+
 def machine() -> dict[str, str]:
     import numba
     import numpy
@@ -292,9 +346,7 @@ def machine() -> dict[str, str]:
                 break
     except OSError:
         pass
-    commit = subprocess.run(
-        ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
-    ).stdout.strip()
+    commit = _head_commit()
     return {
         "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
         "commit": commit or "?",
@@ -318,7 +370,7 @@ def markdown(info: dict[str, str], rows: dict[str, Any], scaling: list[dict[str,
     if rows:
         lines += [
             "| id | scenario | status | ticks | wall s (median; all) | decisions | ms/decision "
-            "| robots/decision | field ms | floor ratio | peak MB |",
+            "| searching robots/decision | field ms | floor ratio (per plan) | peak MB |",
             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for key, r in rows.items():
@@ -328,19 +380,21 @@ def markdown(info: dict[str, str], rows: dict[str, Any], scaling: list[dict[str,
                     f"| {key} | {r['about']} | {r['status']} | {r['ticks']} | {r['wall_s']:.2f} "
                     f"({walls}) | {r['decisions']} | {r['ms_per_decision']:.2f} | "
                     f"{r['robots_per_decision']:.2f} | {r['field_ms']:.2f} | "
-                    f"{r['floor_ratio']:.2f} | {r['peak_rss_mb']:.0f} |"
+                    f"{r['floor_ratio']:.2f} ({r.get('floor_ratio_per_plan', 0.0):.2f}) | "
+                    f"{r['peak_rss_mb']:.0f} |"
                 )
             else:
+                peak = "-" if r["peak_rss_mb"] != r["peak_rss_mb"] else f"{r['peak_rss_mb']:.0f}"
                 lines.append(
                     f"| {key} | {r['about']} | {r['status']} | - | {r['wall_s']:.2f} ({walls}) "
-                    f"| - | - | - | - | - | {r['peak_rss_mb']:.0f} |"
+                    f"| - | - | - | - | - | {peak} |"
                 )
         lines.append("")
     if scaling:
         lines += [
             f"Scaling (office N x N, nearest-frontier, first {SCALING_TICKS} ticks): "
-            "ms per decision; in brackets ms per decision / (cells x robots per decision) "
-            "in ns.",
+            "ms per decision; in brackets ms per decision / (cells x searching robots per "
+            "decision) in ns.",
             "",
             "| side | cells | " + " | ".join(f"{n} robots" for n in SCALING_ROBOTS) + " |",
             "|---:|---:|" + "---:|" * len(SCALING_ROBOTS),
@@ -354,6 +408,8 @@ def markdown(info: dict[str, str], rows: dict[str, Any], scaling: list[dict[str,
                 deciding = max(r["robots_per_decision"], 1e-9)
                 per = 1e6 * r["ms_per_decision"] / (r["cells"] * deciding)
                 parts.append(f"{r['ms_per_decision']:.2f} ({per:.1f})")
+            while len(parts) < len(SCALING_ROBOTS):
+                parts.append("not finished")
             lines.append(f"| {side} | {side * side} | " + " | ".join(parts) + " |")
         lines.append("")
     return "\n".join(lines)
@@ -366,6 +422,12 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--scaling", action="store_true", help="also the scaling table")
     parser.add_argument("--no-scenarios", action="store_true")
+    parser.add_argument(
+        "--timeout",
+        type=float,
+        default=None,
+        help="stop a run after this many seconds and record it as not finished",
+    )
     parser.add_argument("--out", type=Path, default=HERE / "results")
     parser.add_argument("--record", action="store_true", help="append to benchmarks/RESULTS.md")
     args = parser.parse_args()
@@ -377,8 +439,8 @@ def main() -> None:
     unknown = sorted(set(args.only) - set(SCENARIOS))
     if unknown:
         parser.error(f"--only {unknown[0]}: choose from {', '.join(SCENARIOS)}")
-    rows = {} if args.no_scenarios else scenario_table(args.only, args.repeat)
-    scaling = scaling_table(args.repeat) if args.scaling else []
+    rows = {} if args.no_scenarios else scenario_table(args.only, args.repeat, args.timeout)
+    scaling = scaling_table(args.repeat, args.timeout) if args.scaling else []
     info = machine()
     args.out.mkdir(parents=True, exist_ok=True)
     text = markdown(info, rows, scaling)

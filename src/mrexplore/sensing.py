@@ -35,7 +35,7 @@ from mrexplore.planning.visibility import (
     visible_cells_kernel,
 )
 
-__all__ = ["is_visible", "observe", "visible_cells"]
+__all__ = ["is_visible", "observe", "visible_cells", "visible_cells_flat"]
 
 IntArray = npt.NDArray[np.int64]
 
@@ -59,6 +59,13 @@ def _visible_flat(grid: BoolGrid, row: int, col: int, radius: float) -> IntArray
         out,
     )
     return out[:n_visible]
+
+
+def visible_cells_flat(occupied: BoolGrid, position: tuple[int, int], radius: float) -> IntArray:
+    """:func:`visible_cells` as flat indices ``row * W + col`` (same cells, same order)."""
+    grid = as_bool_grid(occupied, "occupied")
+    row, col = as_cell(position, grid.shape, "position")
+    return _visible_flat(grid, row, col, as_radius(radius, "radius"))
 
 
 def visible_cells(

@@ -20,6 +20,9 @@ from mrexplore.sensing import is_visible
 Cell = tuple[int, int]
 Link = tuple[int, int]
 
+_SMALL_TEAM = 32
+"""Up to this many robots, range links are computed in plain Python (faster than numpy)."""
+
 
 class LinkModel(ABC):
     """Decides the direct links between live robots."""
@@ -76,12 +79,25 @@ class RangeLinks(LinkModel):
         ids = sorted(positions)
         if len(ids) < 2:
             return frozenset()
-        cells = np.array([positions[i] for i in ids], dtype=np.float64)
-        d2 = ((cells[:, None, :] - cells[None, :, :]) ** 2).sum(axis=-1)
-        close = np.argwhere(np.triu(d2 <= self.comm_range**2, k=1))
+        limit = self.comm_range**2
+        pairs: list[tuple[int, int]]
+        if len(ids) <= _SMALL_TEAM:
+            # Plain Python beats numpy's set-up costs for a few robots; integer cells
+            # give the same squared distances exactly.
+            cells = [(float(positions[i][0]), float(positions[i][1])) for i in ids]
+            pairs = [
+                (ids[i], ids[j])
+                for i in range(len(ids))
+                for j in range(i + 1, len(ids))
+                if (cells[i][0] - cells[j][0]) ** 2 + (cells[i][1] - cells[j][1]) ** 2 <= limit
+            ]
+        else:
+            array = np.array([positions[i] for i in ids], dtype=np.float64)
+            d2 = ((array[:, None, :] - array[None, :, :]) ** 2).sum(axis=-1)
+            close = np.argwhere(np.triu(d2 <= limit, k=1))
+            pairs = [(ids[i], ids[j]) for i, j in close.tolist()]
         out = []
-        for i, j in close:
-            a, b = ids[int(i)], ids[int(j)]
+        for a, b in pairs:
             if self.line_of_sight:
                 assert self.occupied is not None
                 if not (

@@ -234,9 +234,9 @@ class Network(CommModel):
         neighbours = self._neighbours.get(transmitter, set())
         if message.is_broadcast:
             receivers = sorted(
-                n
-                for n in neighbours
-                if n in packet.destinations and n not in packet.reached and n not in packet.pending
+                neighbours.intersection(packet.destinations).difference(
+                    packet.reached, packet.pending
+                )
             )
         else:
             hop = self._next_hop(transmitter, message.dest)
@@ -288,14 +288,11 @@ class Network(CommModel):
             packet.reached.add(receiver)
             if message.is_broadcast:
                 inbox[receiver].append(message)
-                missing = {
-                    n
-                    for n in self._neighbours.get(receiver, set())
-                    if n in packet.destinations
-                    and n not in packet.reached
-                    and n not in packet.pending
-                }
-                if missing:
+                neighbours = self._neighbours.get(receiver)
+                # neighbours still to reach (set operations run in C)
+                if neighbours and neighbours.intersection(packet.destinations).difference(
+                    packet.reached, packet.pending
+                ):
                     self._enqueue(_Transmission(packet, receiver, message.size_bytes, tick))
             elif receiver == message.dest:
                 inbox[receiver].append(message)

@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numba
 import numpy as np
 import numpy.typing as npt
 
@@ -116,6 +117,31 @@ def known_cells(belief: BeliefGrid) -> CellUpdates:
     return CellUpdates(rows.astype(np.int64), cols.astype(np.int64), belief[rows, cols].copy())
 
 
+@numba.njit(cache=True, nogil=True)
+def _merge_kernel(
+    rows: npt.NDArray[np.int64],
+    cols: npt.NDArray[np.int64],
+    values: npt.NDArray[np.int8],
+    belief: npt.NDArray[np.int8],
+    was_unknown: npt.NDArray[np.bool_],
+) -> int:  # pragma: no cover - compiled
+    """The numpy merge of :func:`merge_many` in one compiled pass, for values that are
+    never ``UNKNOWN`` (the caller checks): which cells were unknown is read before any
+    write, writes go in order (the last wins, as numpy's fancy assignment does), and
+    the first write to a cell (it still reads ``UNKNOWN``) counts it once."""
+    n = rows.shape[0]
+    for k in range(n):
+        was_unknown[k] = belief[rows[k], cols[k]] == -1
+    new = 0
+    for k in range(n):
+        if was_unknown[k]:
+            r, c = rows[k], cols[k]
+            if belief[r, c] == -1:
+                new += 1
+            belief[r, c] = values[k]
+    return new
+
+
 def merge_many(belief: BeliefGrid, payloads: Sequence[CellUpdates]) -> int:
     """Merge several updates at once into the unknown cells; count each new cell once."""
     if len(payloads) == 1:
@@ -123,6 +149,14 @@ def merge_many(belief: BeliefGrid, payloads: Sequence[CellUpdates]) -> int:
     rows = np.concatenate([p.rows for p in payloads])
     cols = np.concatenate([p.cols for p in payloads])
     values = np.concatenate([p.values for p in payloads])
+    if (
+        belief.flags.c_contiguous
+        and rows.dtype == np.int64
+        and cols.dtype == np.int64
+        and values.dtype == np.int8
+        and not (values == UNKNOWN).any()
+    ):
+        return int(_merge_kernel(rows, cols, values, belief, np.empty(rows.size, dtype=np.bool_)))
     unknown = belief[rows, cols] == UNKNOWN
     rows, cols = rows[unknown], cols[unknown]
     belief[rows, cols] = values[unknown]
@@ -155,6 +189,9 @@ def joining_links(
     [(1, 2, frozenset({0, 1}), frozenset({2}))]
     """
     old_group = {robot: group for group in previous for robot in group}
+    # Most ticks every link lies inside one old sub-network: nothing joins.
+    if all((group := old_group.get(a)) is not None and group is old_group.get(b) for a, b in links):
+        return []
     parent: dict[frozenset[int], frozenset[int]] = {}
 
     def root(group: frozenset[int]) -> frozenset[int]:

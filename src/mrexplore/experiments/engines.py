@@ -107,6 +107,9 @@ class LocalEngine(Engine):
 
         if self._executor is None:
             context = multiprocessing.get_context("forkserver")
+            # Workers fork from a server that has imported the simulator and loaded its
+            # compiled kernels once (effective when this process starts its server).
+            context.set_forkserver_preload(["mrexplore.experiments._warm"])
             self._executor = ProcessPoolExecutor(max_workers=self.workers, mp_context=context)
         return self._executor
 

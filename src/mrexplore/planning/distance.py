@@ -35,9 +35,11 @@ from mrexplore.planning._validate import as_bool_grid, as_cell
 __all__ = [
     "SQRT2",
     "UnreachableTargetError",
+    "count_field",
     "distance_field",
     "distance_field_kernel",
     "extract_path",
+    "fields_computed",
     "path_length",
 ]
 
@@ -46,6 +48,26 @@ SQRT2: float = math.sqrt(2.0)
 
 _SETTLED = np.uint8(4)
 """``state`` value of a settled node; 1..3 mean "last pushed to bucket slot 0..2"."""
+
+
+_fields_computed = [0]
+
+
+def fields_computed() -> int:
+    """How many distance fields (shortest-path searches) this process has computed.
+
+    Counts every :func:`distance_field`, every
+    :func:`~mrexplore.planning.frontier_search.nearest_frontier` search and every
+    direct use of :func:`distance_field_kernel` that reports itself with
+    :func:`count_field`. The simulator reads it around each decision to tell the
+    decisions that searched from those that did not (benchmarks' floor ratio).
+    """
+    return _fields_computed[0]
+
+
+def count_field(n: int = 1) -> None:
+    """Add ``n`` to :func:`fields_computed` (for callers of the raw kernel)."""
+    _fields_computed[0] += n
 
 
 class UnreachableTargetError(MrexploreError, ValueError):
@@ -310,6 +332,7 @@ def distance_field(
     if not flat[src]:
         flat = flat.copy()
         flat[src] = True
+    _fields_computed[0] += 1
     dist = np.full(n_cells, np.inf)
     state = np.zeros(n_cells, dtype=np.uint8)
     buckets = np.empty((3, n_cells), dtype=np.int32)

@@ -30,21 +30,23 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 import numpy.typing as npt
 
 from mrexplore.comm import CommModel, MapSharing, Message, make_network, make_sharing
-from mrexplore.comm.sharing import Observation
+from mrexplore.comm.sharing import CellUpdates, FullSharing, NoSharing, Observation
 from mrexplore.errors import StrategyError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BeliefGrid, new_belief
 from mrexplore.planning import distance_field, extract_path
+from mrexplore.planning.distance import fields_computed
+from mrexplore.planning.visibility import clip_radius, ray_table, visible_cells_kernel
 from mrexplore.seeding import make_streams
-from mrexplore.sensing import visible_cells
 from mrexplore.sim.record import (
     BELIEF_CELLS_AUTO,
     RunRecord,
     component_labels,
-    mark_known,
+    mark_known_changed,
     pack_links,
 )
 from mrexplore.sim.scenario import Cell, Scenario
@@ -85,6 +87,79 @@ class Robot:
     @property
     def path_remaining(self) -> int:
         return 0 if self.path is None else len(self.path) - 1 - self.path_index
+
+
+@numba.njit(cache=True, nogil=True)
+def _sense_kernel(
+    visible: npt.NDArray[np.int64],
+    width: int,
+    truth_state: npt.NDArray[np.int8],
+    belief: npt.NDArray[np.int8],
+    sensed: npt.NDArray[np.bool_],
+    sense_count: npt.NDArray[np.uint16],
+    first_known: npt.NDArray[np.int32],
+    explorable: npt.NDArray[np.bool_],
+    tick: int,
+    rows: npt.NDArray[np.int64],
+    cols: npt.NDArray[np.int64],
+    values: npt.NDArray[np.int8],
+    was_unknown: npt.NDArray[np.bool_],
+    robot_known: npt.NDArray[np.int32],
+) -> tuple[int, int, int]:  # pragma: no cover - compiled
+    """One robot's sensing of the flat cells ``visible`` (each once), on flat arrays.
+
+    Counts the visible cells whose belief differs from the truth; for the cells the
+    robot senses for the first time (``fresh``), in the order of ``visible``: writes
+    their row, col, true value and whether the belief held them unknown to the
+    outputs, writes the truth into ``belief``, sets ``sensed``, counts ``sense_count``
+    and stamps ``first_known`` where the team did not know the cell yet (and
+    ``robot_known``, the robot's own first_known, unless it is empty, where the
+    robot did not know it).
+
+    Returns ``(changed, fresh, newly known explorable cells)``.
+    """
+    changed = 0
+    fresh = 0
+    explorable_new = 0
+    stamp = robot_known.shape[0] > 0
+    for k in range(visible.shape[0]):
+        i = visible[k]
+        value = truth_state[i]
+        if belief[i] != value:
+            changed += 1
+        if sensed[i]:
+            continue
+        rows[fresh] = i // width
+        cols[fresh] = i % width
+        values[fresh] = value
+        was_unknown[fresh] = belief[i] == -1
+        if stamp and robot_known[i] < 0:
+            robot_known[i] = tick  # the truth written below is never unknown
+        fresh += 1
+        belief[i] = value
+        sensed[i] = True
+        sense_count[i] += 1
+        if first_known[i] < 0:
+            first_known[i] = tick
+            if explorable[i]:
+                explorable_new += 1
+    return changed, fresh, explorable_new
+
+
+@numba.njit(cache=True, nogil=True)
+def _stamp_cells(
+    rows: npt.NDArray[np.int64],
+    cols: npt.NDArray[np.int64],
+    width: int,
+    belief: npt.NDArray[np.int8],
+    robot_known: npt.NDArray[np.int32],
+    tick: int,
+) -> None:  # pragma: no cover - compiled
+    """Stamp ``tick`` on the listed cells that are known in ``belief`` and not stamped."""
+    for k in range(rows.shape[0]):
+        i = rows[k] * width + cols[k]
+        if robot_known[i] < 0 and belief[i] != -1:
+            robot_known[i] = tick
 
 
 Decider = Callable[[int, RobotView], Decision]
@@ -148,7 +223,27 @@ class Simulation:
         self.robot_first_known = (
             np.full((n, *shape), -1, dtype=np.int32) if record_beliefs else None
         )
+        # How robot_first_known is kept up to date. With the built-in full / none
+        # sharing a belief changes only where the robot senses, bumps or merges the
+        # cells of a CellUpdates payload, so those cells are stamped as they change
+        # (the tick is the same as at the record). Any other mechanism may write
+        # anywhere: then each record compares the belief with a copy of it from the
+        # previous record, eight cells at a time.
+        self._stamp_direct = record_beliefs and type(self.sharing) in (FullSharing, NoSharing)
+        self._belief_shadow = (
+            # rows padded to whole 8-byte words so that every row is word-aligned
+            np.full((n, -(-shape[0] * shape[1] // 8) * 8), UNKNOWN, dtype=np.int8)
+            if record_beliefs and not self._stamp_direct
+            else None
+        )
+        self._no_stamps = np.zeros(0, dtype=np.int32)
         self.sense_count = np.zeros(shape, dtype=np.uint16)
+        self._explorable_flat = np.ascontiguousarray(self.world.explorable).reshape(-1)
+        self._truth_flat = np.ascontiguousarray(self.truth, dtype=np.bool_).reshape(-1)
+        self._rays = ray_table(clip_radius(self.world.sensor_range_cells, shape))
+        # Each robot's last sensor footprint: the ground truth never changes, so a robot
+        # that has not moved sees the same cells (the ray walk is skipped).
+        self._last_visible: list[tuple[Cell, npt.NDArray[np.int64]] | None] = [None] * n
         self.n_explorable = self.world.n_explorable
         self.known_explorable = 0
         self.stall_ticks = (
@@ -164,6 +259,10 @@ class Simulation:
         self.decide_seconds = 0.0
         self.decisions = 0
         self.plans = 0
+        self.field_decisions = 0
+        """Decide calls that computed at least one distance field."""
+        self.fields = 0
+        """Distance fields computed inside decide calls."""
         # Stepping state (see start/step/finish).
         self.tick = -1
         self.status: str | None = None
@@ -178,8 +277,13 @@ class Simulation:
         self._goals_log: list[npt.NDArray[np.int32]] = []
         self._known_log: list[int] = []
         self._component_log: list[npt.NDArray[np.int16]] = []
+        self._last_subnetworks: list[frozenset[int]] | None = None
         self._links_log: list[npt.NDArray[np.uint8]] = []
         self._last_links: list[frozenset[tuple[int, int]]] = []
+        self._group_links: tuple[object, dict[frozenset[int], frozenset[tuple[int, int]]]] = (
+            None,
+            {},
+        )
 
     # ------------------------------------------------------------------ phases
     def _alive(self) -> frozenset[int]:
@@ -218,9 +322,22 @@ class Simulation:
             map_messages = [m for m in messages if m.type in self.sharing.message_types]
             if map_messages:
                 robot.new_cells += self.sharing.on_receive_all(robot_id, robot.belief, map_messages)
+                if self._stamp_direct:
+                    self._stamp_received(robot, map_messages)
             robot.inbox.extend(m for m in messages if m.type not in self.sharing.message_types)
         for message in self.sharing.drain():
             self._send(dataclasses.replace(message, tick_sent=tick), tick)
+
+    def _stamp_received(self, robot: Robot, messages: list[Message]) -> None:
+        """robot_first_known of the cells the merged ``messages`` made known."""
+        assert self.robot_first_known is not None
+        belief = robot.belief.reshape(-1)
+        known = self.robot_first_known[robot.id].reshape(-1)
+        width = belief.size // robot.belief.shape[0]
+        for message in messages:
+            payload = message.payload
+            assert isinstance(payload, CellUpdates)
+            _stamp_cells(payload.rows, payload.cols, width, belief, known, self.tick)
 
     def view_of(
         self, robot_id: int, all_links: frozenset[tuple[int, int]] | None = None
@@ -230,6 +347,14 @@ class Simulation:
         if all_links is None:
             all_links = frozenset(self.comm.links())
         subnetwork = self.comm.subnetwork_of(robot.id)
+        # The links of a sub-network, shared by its members within one tick.
+        key = (self.tick, all_links)
+        if self._group_links[0] != key:
+            self._group_links = (key, {})
+        links = self._group_links[1].get(subnetwork)
+        if links is None:
+            links = frozenset(link for link in all_links if link[0] in subnetwork)
+            self._group_links[1][subnetwork] = links
         belief_view = robot.belief.view()
         belief_view.flags.writeable = False
         return RobotView(
@@ -244,7 +369,7 @@ class Simulation:
             blocked=robot.blocked,
             inbox=tuple(robot.inbox),
             subnetwork=subnetwork,
-            links=frozenset(link for link in all_links if link[0] in subnetwork),
+            links=links,
             comm_latency=self.scenario.latency,
             comm_range=self.comm_range_cells,
             sensor_range=self.world.sensor_range_cells,
@@ -259,6 +384,7 @@ class Simulation:
             if not robot.alive:
                 continue
             view = self.view_of(robot.id, all_links)
+            fields_before = fields_computed()
             started = time.perf_counter()
             if decide is None:
                 decision = self.strategies[robot.id].decide(view)
@@ -266,6 +392,10 @@ class Simulation:
                 decision = decide(robot.id, view)
             self.decide_seconds += time.perf_counter() - started
             self.decisions += 1
+            fields = fields_computed() - fields_before
+            if fields:
+                self.fields += fields
+                self.field_decisions += 1
             robot.inbox.clear()
             self._apply(robot, decision, tick)
 
@@ -363,6 +493,11 @@ class Simulation:
             return False
         for cell in step_cells:
             robot.belief[cell] = self.truth_state[cell]
+        if self._stamp_direct:
+            assert self.robot_first_known is not None
+            for cell in step_cells:
+                if self.robot_first_known[robot.id][cell] < 0:
+                    self.robot_first_known[robot.id][cell] = self.tick
         robot.path, robot.goal = None, None
         robot.blocked = True
         robot.budget = 0.0
@@ -401,34 +536,75 @@ class Simulation:
         robot.blocked = True
 
     def _sense(self, tick: int) -> None:
-        radius = self.world.sensor_range_cells
         arrival_only = self.scenario.sensing == "arrival"
+        width = self.truth.shape[1]
+        truth_state = self.truth_state.reshape(-1)
+        sense_count = self.sense_count.reshape(-1)
+        first_known = self.first_known.reshape(-1)
+        explorable = self._explorable_flat
         for robot in self.robots:
             if not robot.alive or (arrival_only and robot.travelling and tick > 0):
                 continue
-            rows, cols = visible_cells(self.truth, robot.position, radius)
-            values = self.truth_state[rows, cols]
+            visible = self._visible(robot)
+            n = visible.size
+            rows = np.empty(n, dtype=np.int64)
+            cols = np.empty(n, dtype=np.int64)
+            values = np.empty(n, dtype=np.int8)
+            was_unknown = np.empty(n, dtype=np.bool_)
             # Own sensing is the truth: it overrides anything received before.
-            changed = robot.belief[rows, cols] != values
-            robot.new_cells += int(np.count_nonzero(changed))
-            fresh = ~robot.sensed[rows, cols]
-            if not fresh.any():
+            changed, n_fresh, explorable_new = _sense_kernel(
+                visible,
+                width,
+                truth_state,
+                robot.belief.reshape(-1),
+                robot.sensed.reshape(-1),
+                sense_count,
+                first_known,
+                explorable,
+                tick,
+                rows,
+                cols,
+                values,
+                was_unknown,
+                self.robot_first_known[robot.id].reshape(-1)
+                if self._stamp_direct and self.robot_first_known is not None
+                else self._no_stamps,
+            )
+            robot.new_cells += changed
+            if n_fresh == 0:
                 continue
-            rows, cols, values = rows[fresh], cols[fresh], values[fresh]
-            was_unknown = robot.belief[rows, cols] == UNKNOWN
-            robot.belief[rows, cols] = values
-            robot.sensed[rows, cols] = True
-            self.sense_count[rows, cols] += 1
-            team_new = self.first_known[rows, cols] < 0
-            if team_new.any():
-                team_rows, team_cols = rows[team_new], cols[team_new]
-                self.first_known[team_rows, team_cols] = tick
-                self.known_explorable += int(
-                    np.count_nonzero(self.world.explorable[team_rows, team_cols])
-                )
-            observation = Observation(rows, cols, values, was_unknown)
+            self.known_explorable += explorable_new
+            observation = Observation(
+                rows[:n_fresh], cols[:n_fresh], values[:n_fresh], was_unknown[:n_fresh]
+            )
             for message in self.sharing.on_observe(robot.id, tick, observation, robot.belief):
                 self._send(message, tick)
+
+    def _visible(self, robot: Robot) -> npt.NDArray[np.int64]:
+        """Flat indices of the cells ``robot`` sees: :func:`mrexplore.sensing.visible_cells`
+        (same cells, same order) from the table built once per run."""
+        last = self._last_visible[robot.id]
+        if last is not None and last[0] == robot.position:
+            return last[1]
+        height, width = self.truth.shape
+        rays = self._rays
+        out = np.empty(rays.n_cells, dtype=np.int64)
+        n_visible = visible_cells_kernel(
+            self._truth_flat,
+            height,
+            width,
+            robot.position[0],
+            robot.position[1],
+            rays.flags,
+            rays.cell,
+            rays.parent,
+            rays.skip,
+            rays.reach,
+            out,
+        )
+        visible = out[:n_visible]
+        self._last_visible[robot.id] = (robot.position, visible)
+        return visible
 
     def _send(self, message: Message, tick: int) -> None:
         """Hand a message to the communication model.
@@ -507,16 +683,33 @@ class Simulation:
 
     def _record(self, tick: int) -> None:
         n_robots = len(self.robots)
-        self._component_log.append(component_labels(self.comm.subnetworks(), n_robots))
+        subnetworks = self.comm.subnetworks()
+        if self._last_subnetworks is not None and subnetworks == self._last_subnetworks:
+            self._component_log.append(self._component_log[-1])  # stacked (copied) at finish
+        else:
+            self._component_log.append(component_labels(subnetworks, n_robots))
+            self._last_subnetworks = subnetworks
         links = self.comm.links()
         if self._last_links and links == self._last_links[0]:  # most ticks: no link changed
             self._links_log.append(self._links_log[-1])
         else:
             self._links_log.append(pack_links(links, n_robots))
             self._last_links[:] = [links]
-        if self.robot_first_known is not None:
+        if self.robot_first_known is not None and self._belief_shadow is not None:
+            n_cells = self.first_known.size
+            n_words = n_cells // 8
             for robot in self.robots:
-                mark_known(robot.belief, self.robot_first_known[robot.id], tick, UNKNOWN)
+                belief = robot.belief.reshape(-1)
+                shadow = self._belief_shadow[robot.id, :n_cells]
+                mark_known_changed(
+                    belief,
+                    shadow,
+                    belief[: 8 * n_words].view(np.uint64),
+                    shadow[: 8 * n_words].view(np.uint64),
+                    self.robot_first_known[robot.id].reshape(-1),
+                    tick,
+                    UNKNOWN,
+                )
         self._positions.append(np.array([r.position for r in self.robots], dtype=np.int32))
         self._alive_log.append(np.array([r.alive for r in self.robots], dtype=bool))
         self._distance_log.append(np.array([r.distance for r in self.robots], dtype=np.float64))
@@ -565,6 +758,8 @@ class Simulation:
             decide_seconds=self.decide_seconds,
             decisions=self.decisions,
             plans=self.plans,
+            field_decisions=self.field_decisions,
+            fields=self.fields,
             strategy_params=dict(self.strategies[0].p),
             comm_range_cells=self.comm_range_cells,
             comm_description=self.comm.describe(),
@@ -584,6 +779,44 @@ class Simulation:
         )
 
 
+_PATH_PROBLEMS = {
+    1: "path leaves the map",
+    2: "path crosses a cell its robot does not know to be free",
+    3: "path has a step that is not to an 8-neighbour",
+    4: "path cuts a corner",
+}
+
+
+@numba.njit(cache=True, nogil=True)
+def _path_problem(
+    cells: npt.NDArray[np.int32], belief: npt.NDArray[np.int8]
+) -> int:  # pragma: no cover - compiled
+    """The first failing check of :func:`check_path` (a key of ``_PATH_PROBLEMS``), or 0.
+
+    One pass per check, in :func:`check_path`'s order, so that a path with several
+    faults gets the same message."""
+    height, width = belief.shape
+    n = cells.shape[0]
+    for k in range(n):
+        if cells[k, 0] < 0 or cells[k, 1] < 0 or cells[k, 0] >= height or cells[k, 1] >= width:
+            return 1
+    for k in range(1, n):
+        if belief[cells[k, 0], cells[k, 1]] != 0:
+            return 2
+    for k in range(1, n):
+        step = max(abs(cells[k, 0] - cells[k - 1, 0]), abs(cells[k, 1] - cells[k - 1, 1]))
+        if step != 1:
+            return 3
+    for k in range(1, n):
+        d_row = cells[k, 0] - cells[k - 1, 0]
+        d_col = cells[k, 1] - cells[k - 1, 1]
+        if d_row != 0 and d_col != 0:
+            r0, c0 = cells[k - 1, 0], cells[k - 1, 1]
+            if belief[r0 + d_row, c0] != 0 or belief[r0, c0 + d_col] != 0:
+                return 4
+    return 0
+
+
 def check_path(path: npt.NDArray[np.integer], start: Cell, goal: Cell, belief: BeliefGrid) -> None:
     """Raise :class:`StrategyError` unless ``path`` is a legal route over known-free cells."""
     cells = np.asarray(path)
@@ -591,6 +824,11 @@ def check_path(path: npt.NDArray[np.integer], start: Cell, goal: Cell, belief: B
         raise StrategyError(f"path must be a (K, 2) array of cells, got shape {cells.shape}")
     if tuple(cells[0]) != tuple(start) or tuple(cells[-1]) != tuple(goal):
         raise StrategyError(f"path must run from {start} to {goal}")
+    if cells.dtype == np.int32 and cells.flags.c_contiguous and belief.dtype == np.int8:
+        problem = _path_problem(cells, belief)  # the checks below, compiled
+        if problem:
+            raise StrategyError(_PATH_PROBLEMS[problem])
+        return
     height, width = belief.shape
     if (cells < 0).any() or (cells[:, 0] >= height).any() or (cells[:, 1] >= width).any():
         raise StrategyError("path leaves the map")

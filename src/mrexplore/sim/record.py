@@ -138,6 +138,40 @@ def mark_known(
                 first_known[row, col] = tick
 
 
+@numba.njit(cache=True, nogil=True)
+def mark_known_changed(
+    belief: npt.NDArray[np.int8],
+    shadow: npt.NDArray[np.int8],
+    belief_words: npt.NDArray[np.uint64],
+    shadow_words: npt.NDArray[np.uint64],
+    first_known: npt.NDArray[np.int32],
+    tick: int,
+    unknown: int,
+) -> None:  # pragma: no cover - compiled
+    """:func:`mark_known` on flat arrays, looking only at cells that changed.
+
+    ``shadow`` is a copy of ``belief`` as it was at the previous call (all
+    ``unknown`` before the first); ``belief_words`` and ``shadow_words`` are the
+    two arrays' first ``8 * (n // 8)`` bytes viewed as uint64. Eight cells are
+    compared at once, so the unchanged bulk of the map costs a fraction of a
+    cell-by-cell pass; ``shadow`` is brought up to date. The result equals
+    ``mark_known(belief, first_known, tick, unknown)`` on the same arrays.
+    """
+    n_words = belief_words.shape[0]
+    for w in range(n_words):
+        if belief_words[w] == shadow_words[w]:
+            continue
+        shadow_words[w] = belief_words[w]
+        for i in range(8 * w, 8 * w + 8):
+            if first_known[i] < 0 and belief[i] != unknown:
+                first_known[i] = tick
+    for i in range(8 * n_words, belief.shape[0]):
+        if belief[i] != shadow[i]:
+            shadow[i] = belief[i]
+            if first_known[i] < 0 and belief[i] != unknown:
+                first_known[i] = tick
+
+
 def load_trace(path: str | Path) -> dict[str, np.ndarray]:
     """Every array of a ``trace.npz`` (any version) as a dict of numpy arrays.
 
@@ -188,6 +222,10 @@ class RunRecord:
     component: npt.NDArray[np.int16] | None = None
     link_bits: npt.NDArray[np.uint8] | None = None
     robot_first_known: npt.NDArray[np.int32] | None = None
+    field_decisions: int = 0
+    """Decide calls that computed at least one distance field (benchmarks only)."""
+    fields: int = 0
+    """Distance fields computed inside decide calls (benchmarks only)."""
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
         """The arrays of ``trace.npz``."""

@@ -37,9 +37,11 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore.planning import frontier_clusters
+from mrexplore.planning.frontier_search import nearest_frontier
 from mrexplore.strategies.base import (
     REPLAN_PARAMS,
     Cell,
+    Decision,
     FrontierStrategy,
     Param,
     RobotView,
@@ -74,6 +76,20 @@ class NearestFrontier(FrontierStrategy):
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
         self.nearest_only = int(self.p["min_frontier_size"]) <= 1
+
+    def decide(self, view: RobotView) -> Decision:
+        if not self.nearest_only:
+            return super().decide(view)
+        # Same goal and path as FrontierStrategy.decide + choose_goal, from one compiled
+        # search that touches only the cells nearer than the nearest frontier.
+        if not self.needs_plan(view):
+            return Decision()
+        self.last_plan_tick = view.tick
+        found = nearest_frontier(view.belief, view.position)
+        if found is None:
+            return Decision(idle=True)
+        goal, path = found
+        return Decision(goal=goal, path=path)
 
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]

@@ -141,7 +141,7 @@ from mrexplore.planning import (
     frontier_mask,
     information_gain,
 )
-from mrexplore.planning.distance import distance_field_kernel
+from mrexplore.planning.distance import count_field, distance_field_kernel
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -396,6 +396,7 @@ class TickDistances:
             if not flat[src]:
                 free = flat.copy()
                 free[src] = True
+            count_field()
             distance_field_kernel(
                 free,
                 height,
