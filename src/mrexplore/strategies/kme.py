@@ -715,7 +715,11 @@ def kme_round(
     )
     region_of = assign_regions(distances.d, infeasible=10.0 * diagonal)
     if fm_order == "nearest":
-        order_key: FloatArray | None = np.minimum.reduce(deltas)
+        # frontier_subset reads the key at frontier cells only: take the minimum there.
+        nearest_key = np.full(belief.shape, math.inf)
+        f_rows, f_cols = np.nonzero(frontier)
+        nearest_key[f_rows, f_cols] = np.minimum.reduce([d[f_rows, f_cols] for d in deltas])
+        order_key: FloatArray | None = nearest_key
     elif fm_order == "raster":
         order_key = np.zeros(belief.shape)  # a stable sort keeps raster order
     else:
