@@ -9,7 +9,6 @@ so one bad run never stops a sweep.
 
 from __future__ import annotations
 
-import math
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -148,6 +147,4 @@ def _scalar(value: Any) -> Any:
         return float(value)
     if isinstance(value, np.generic):
         return value.item()
-    if isinstance(value, float) and math.isnan(value):
-        return value
     return value

@@ -143,12 +143,6 @@ class Store:
         singles = {p.stem[4:] for p in (self.root / "runs").glob("run-*.parquet")}
         return singles | self._batched_ids("runs")
 
-    def failed_ids(self) -> set[str]:
-        if not self._files("runs"):
-            return set()
-        rows = self.query("SELECT run_id FROM runs WHERE status = 'failed'")
-        return set(rows.column("run_id").to_pylist())
-
     def _batched_ids(self, table: str) -> set[str]:
         import pyarrow.parquet as pq
 

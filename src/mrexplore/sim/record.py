@@ -55,7 +55,7 @@ from __future__ import annotations
 import itertools
 import json
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -226,9 +226,16 @@ class RunRecord:
     """Decide calls that computed at least one distance field (benchmarks only)."""
     fields: int = 0
     """Distance fields computed inside decide calls (benchmarks only)."""
+    _trace: dict[str, np.ndarray] | None = field(default=None, init=False, repr=False)
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
-        """The arrays of ``trace.npz``."""
+        """The arrays of ``trace.npz`` (computed once; ``result()`` and ``save()`` reuse
+        them)."""
+        if self._trace is None:
+            self._trace = self._build_trace()
+        return dict(self._trace)
+
+    def _build_trace(self) -> dict[str, np.ndarray]:
         arrays: dict[str, np.ndarray] = {
             "truth": self.world.grid.truth_uint8(),
             "explorable": self.world.explorable,

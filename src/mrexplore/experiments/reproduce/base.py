@@ -73,6 +73,13 @@ def reproduce(
     return reproduction.report(stores, out, quick)
 
 
+def rules_header(rules: Mapping[str, str]) -> list[str]:
+    """The start of a report's verdict section: its heading and the rules that decide
+    each verdict, one line per rule."""
+    header = ["## Verdicts", "", "Rules, fixed before the runs and never tuned:", ""]
+    return header + [f"- `{name}`: {rule}" for name, rule in rules.items()]
+
+
 def verdict_section(verdicts: list[Verdict]) -> str:
     """The report's verdict lines, one per claim."""
     return "\n".join(v.line() for v in verdicts)

@@ -56,7 +56,13 @@ from mrexplore.comm.messages import (
     MAP_UPDATE,
     SEQ_TABLE,
 )
-from mrexplore.experiments.reproduce.base import Outcome, Reproduction, Verdict, verdict_section
+from mrexplore.experiments.reproduce.base import (
+    Outcome,
+    Reproduction,
+    Verdict,
+    rules_header,
+    verdict_section,
+)
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -868,8 +874,7 @@ def report(
         )
     )
 
-    lines += ["## Verdicts", "", "Rules, fixed before the runs and never tuned:", ""]
-    lines += [f"- `{name}`: {rule}" for name, rule in RULES.items()]
+    lines += rules_header(RULES)
     lines += ["", "The comparison of each claim, in order (`x` marks a cell where it fails):", ""]
     lines += [f"- `{key}`: {text}" for key, text in CLAIM_COMPARISONS.items()]
     lines += ["", verdict_section(verdicts), ""]
@@ -878,18 +883,10 @@ def report(
     return path
 
 
-def _report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    return report(stores, out, quick)
-
-
-def _sweeps(quick: bool) -> dict[str, Sweep]:
-    return sweeps(quick)
-
-
 REPRODUCTION = Reproduction(
     id=ID,
     title=TITLE,
     citation=CITATION,
-    sweeps=_sweeps,
-    report=_report,
+    sweeps=sweeps,
+    report=report,
 )

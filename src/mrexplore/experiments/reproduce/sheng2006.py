@@ -45,7 +45,13 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from mrexplore.experiments.reproduce.base import Outcome, Reproduction, Verdict, verdict_section
+from mrexplore.experiments.reproduce.base import (
+    Outcome,
+    Reproduction,
+    Verdict,
+    rules_header,
+    verdict_section,
+)
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -1122,8 +1128,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     ):
         lines += section
         verdicts += verdict_list
-    lines += ["## Verdicts", "", "Rules, fixed before the runs and never tuned:", ""]
-    lines += [f"- `{name}`: {rule}" for name, rule in RULES.items()]
+    lines += rules_header(RULES)
     lines += [
         "",
         "Which rule decides which claim: Fig. 11 `fig11`; Fig. 12 team size `decreasing`; "

@@ -51,7 +51,13 @@ import numpy as np
 import numpy.typing as npt
 import pyarrow as pa
 
-from mrexplore.experiments.reproduce.base import Outcome, Reproduction, Verdict, verdict_section
+from mrexplore.experiments.reproduce.base import (
+    Outcome,
+    Reproduction,
+    Verdict,
+    rules_header,
+    verdict_section,
+)
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -1117,8 +1123,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         )
     )
 
-    lines += ["## Verdicts", "", "Rules, fixed before the runs and never tuned:", ""]
-    lines += [f"- `{name}`: {rule}" for name, rule in RULES.items()]
+    lines += rules_header(RULES)
     lines += [
         "",
         "Which rule decides which claim: the first `decreasing`; the KME-lowest claims "
