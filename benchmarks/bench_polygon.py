@@ -1,6 +1,7 @@
 """Bytes, approximation error and cost of the ``polygon`` sharing mechanism.
 
-One robot explores the Intel lab map at 0.1 m cells with a 30-cell sensor by a
+One robot explores the Intel lab map (the catalogue map ``intel``; ``--map`` takes
+another catalogue name or a map file) at 0.1 m cells with a 30-cell sensor by a
 nearest-frontier walk (go to the closest frontier cell of its own map, one cell
 per tick, re-plan on arrival). The walk is computed once; the same observation
 sequence is then replayed through :class:`~mrexplore.comm.polygon.PolygonSharing`
@@ -40,11 +41,11 @@ from mrexplore.comm.polygon import PolygonSharing
 from mrexplore.comm.polygon_packages import Resync
 from mrexplore.comm.sharing import Observation
 from mrexplore.grid import largest_free_component, load_map
+from mrexplore.grid.catalogue import resolve_map_name
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, new_belief
 from mrexplore.planning import distance_field, extract_path, frontier_mask
 from mrexplore.sensing import visible_cells
 
-INTEL = Path(__file__).resolve().parents[1] / ".." / "shared" / "maps" / "ros" / "intel.yaml"
 SCAN_BEAMS = 360
 SENSOR_RANGE_CELLS = 30.0
 
@@ -140,9 +141,10 @@ def main() -> None:
     parser.add_argument("--split-rates", nargs="+", type=float, default=[0.1, 1.0, 10.0])
     parser.add_argument("--resync-every", type=int, default=50, help="ticks; 0 = never")
     parser.add_argument("--epsilon", type=float, default=0.5, help="DP tolerance, cells")
-    parser.add_argument("--map", type=Path, default=INTEL)
+    parser.add_argument("--map", default="intel", help="catalogue map name or map file")
     args = parser.parse_args()
-    grid = load_map(args.map, cell_size_m=0.1)
+    map_path = resolve_map_name(args.map) or Path(args.map)
+    grid = load_map(map_path, cell_size_m=0.1)
     occupied = grid.occupied
     free_cells = np.argwhere(largest_free_component(occupied))
     centre = free_cells[np.argmin(np.abs(free_cells - free_cells.mean(axis=0)).sum(axis=1))]
@@ -154,7 +156,7 @@ def main() -> None:
     )
     observed = int(sum(o.rows.size for o in observations))
     print(
-        f"map {args.map.name} {occupied.shape[0]}x{occupied.shape[1]} cells at 0.1 m, "
+        f"map {map_path.name} {occupied.shape[0]}x{occupied.shape[1]} cells at 0.1 m, "
         f"sensor {SENSOR_RANGE_CELLS:g} cells, {n_ticks} ticks, {observed} cells observed, "
         f"resync every {args.resync_every} ticks, epsilon {args.epsilon:g} cells"
     )

@@ -1,8 +1,9 @@
 """Whole-run benchmark: wall time per run, ticks, and time per decision.
 
 Runs 1, 8 and 32 robots on 200 x 200 and 500 x 500 generated offices and on the
-Intel lab map (native 0.05 m cells), with the three baseline strategies by
-default. Prints one row per run. Not a test: numbers depend on the machine.
+Intel lab map (the catalogue map ``intel``, native 0.05 m cells), with the
+baseline strategies by default. Prints one row per run. Not a test: numbers
+depend on the machine.
 
     python benchmarks/bench_runs.py [--strategies burgard ...] [--robots 1 8 32]
 """
@@ -12,7 +13,6 @@ from __future__ import annotations
 import argparse
 import time
 
-from mrexplore.grid.bundled import shared_maps_dir
 from mrexplore.sim.engine import Simulation
 from mrexplore.sim.scenario import Scenario
 
@@ -23,12 +23,8 @@ def scenarios(
     maps: list[tuple[str, dict[str, object]]] = [
         ("office 200x200", {"map": "office", "size": (200, 200), "sensor_range": 10}),
         ("office 500x500", {"map": "office", "size": (500, 500), "sensor_range": 10}),
+        ("intel 0.05m", {"map": "intel", "sensor_range": "1.5m"}),
     ]
-    shared = shared_maps_dir()
-    if shared is not None and (shared / "ros" / "intel.yaml").exists():
-        maps.append(
-            ("intel 0.05m", {"map": str(shared / "ros" / "intel.yaml"), "sensor_range": "1.5m"})
-        )
     out = []
     for label, settings in maps:
         for strategy in strategies:

@@ -47,7 +47,6 @@ from pathlib import Path
 from typing import Any
 
 HERE = Path(__file__).resolve().parent
-SHARED = HERE.parent.parent / "shared" / "maps"
 
 SCENARIOS: dict[str, dict[str, Any]] = {
     "S1": {
@@ -68,7 +67,7 @@ SCENARIOS: dict[str, dict[str, Any]] = {
     "S3-nearest": {
         "about": "intel.yaml (native 0.05 m cells), 8 robots, nearest-frontier, sensor 40 cells",
         "scenario": {
-            "map": str(SHARED / "ros" / "intel.yaml"),
+            "map": "intel",
             "robots": 8,
             "strategy": "nearest-frontier",
             "sensor_range": 40,
@@ -77,7 +76,7 @@ SCENARIOS: dict[str, dict[str, Any]] = {
     "S3-kme": {
         "about": "intel.yaml (native 0.05 m cells), 8 robots, kme, sensor 40 cells",
         "scenario": {
-            "map": str(SHARED / "ros" / "intel.yaml"),
+            "map": "intel",
             "robots": 8,
             "strategy": "kme",
             "sensor_range": 40,
@@ -86,7 +85,7 @@ SCENARIOS: dict[str, dict[str, Any]] = {
     "S4": {
         "about": "warehouse.yaml (native 0.03 m cells), 32 robots, nearest-frontier",
         "scenario": {
-            "map": str(SHARED / "ros" / "warehouse.yaml"),
+            "map": "warehouse",
             "robots": 32,
             "strategy": "nearest-frontier",
         },
@@ -264,10 +263,6 @@ def scenario_table(
     rows: dict[str, dict[str, Any]] = {}
     for key in ids:
         spec = SCENARIOS[key]
-        if "scenario" in spec and str(spec["scenario"]["map"]).startswith(str(SHARED)):
-            if not Path(spec["scenario"]["map"]).exists():
-                print(f"{key}: skipped, {spec['scenario']['map']} is absent", flush=True)
-                continue
         results = []
         for _ in range(repeat):
             if "sweep" in spec:

@@ -1,5 +1,6 @@
 """Run every baseline strategy with 1, 4 and 8 robots on every generator and every
-shared map, check each trace against the run contract, and print one row per run.
+map of the catalogue (:data:`mrexplore.grid.catalogue.CATALOGUE`), check each trace
+against the run contract, and print one row per run.
 
     python benchmarks/check_all_maps.py [--workers 2] [--strategies ...] [--robots ...]
 
@@ -11,25 +12,24 @@ finer than the file) with a 3 m sensor.
 from __future__ import annotations
 
 import argparse
-import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 from mrexplore.checks import check_trace
 from mrexplore.grid import GENERATORS
-from mrexplore.grid.bundled import shared_maps
+from mrexplore.grid.catalogue import CATALOGUE
 from mrexplore.sim.engine import simulate
 from mrexplore.sim.scenario import Scenario
 
 
 def settings() -> list[dict[str, Any]]:
     out: list[dict[str, Any]] = [{"map": name, "sensor_range": 8} for name in GENERATORS]
-    for path in shared_maps():
-        if path.suffix == ".map":
-            out.append({"map": str(path), "sensor_range": 8})
+    for entry in CATALOGUE:
+        if entry.kind == "movingai":
+            out.append({"map": entry.name, "sensor_range": 8})
         else:
-            out.append({"map": str(path), "cell_size": 0.1, "sensor_range": "3m"})
+            out.append({"map": entry.name, "cell_size": 0.1, "sensor_range": "3m"})
     return out
 
 
@@ -40,7 +40,7 @@ def one(args: tuple[dict[str, Any], str, int, int | None]) -> str:
     record = simulate(scenario)
     wall = time.perf_counter() - started
     problems = check_trace(record.trace_arrays(), record.result())
-    name = os.path.basename(str(setting["map"]))
+    name = str(setting["map"])
     shape = "x".join(str(v) for v in record.world.grid.shape[::-1])
     return (
         f"{name:<28}{shape:>10}{strategy:>18}{robots:>4}{record.status:>10}{record.ticks:>7}"

@@ -2,7 +2,8 @@
 
     python benchmarks/intel_table.py [--workers 2] [--strategies ...]
 
-Settings: Intel lab at 0.2 m cells, 3 m sensor, unlimited communication.
+Settings: Intel lab (the catalogue map ``intel``) at 0.2 m cells, 3 m sensor,
+unlimited communication.
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from mrexplore.grid.bundled import shared_maps_dir
 from mrexplore.sim.engine import simulate
 from mrexplore.sim.scenario import Scenario
 from mrexplore.strategies import available_strategies
@@ -20,10 +20,8 @@ from mrexplore.strategies import available_strategies
 
 def one(job: tuple[str, int]) -> tuple[str, int, str, int | None, float]:
     strategy, seed = job
-    maps = shared_maps_dir()
-    assert maps is not None, "needs ../shared/maps"
     scenario = Scenario(
-        map=str(maps / "ros" / "intel.yaml"),
+        map="intel",
         cell_size=0.2,
         sensor_range="3m",
         robots=4,

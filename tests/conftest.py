@@ -1,17 +1,18 @@
-"""Shared fixtures: where the shared map collection is, small scenarios."""
+"""Shared fixtures.
+
+Real maps come from the package's catalogue (:mod:`mrexplore.grid.catalogue`), so
+no test depends on a folder outside the repository. A user's ``$MREXPLORE_MAPS``
+must not change what a test loads either: it is cleared for every test (tests of
+user map folders set it themselves).
+"""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED_MAPS = REPO / ".." / "shared" / "maps"
+from mrexplore.grid.catalogue import MAPS_ENV
 
 
-@pytest.fixture
-def shared_maps() -> Path:
-    if not (SHARED_MAPS / "ros").is_dir():
-        pytest.skip("the shared map collection ../shared/maps is absent")
-    return SHARED_MAPS
+@pytest.fixture(autouse=True)
+def _no_user_map_folders(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv(MAPS_ENV, raising=False)

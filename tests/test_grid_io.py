@@ -1,7 +1,8 @@
-"""Map readers and writer: the shared real maps, tiny hand-written files, round trips."""
+"""Map readers and writer: the shipped real maps, tiny hand-written files, round trips."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
@@ -25,24 +26,16 @@ from mrexplore.grid import (
     resample_to_cell_size,
     write_map,
 )
-from mrexplore.grid.io import CREDITS, read_pgm
+from mrexplore.grid.catalogue import CATALOGUE, MapEntry, lookup
+from mrexplore.grid.io import read_pgm
 
-MAPS = Path(__file__).parents[1] / ".." / "shared" / "maps"
-
-
-def _shared_files() -> list[Path]:
-    if not MAPS.is_dir():
-        return []
-    return sorted([*MAPS.glob("ros/**/*.yaml"), *MAPS.glob("movingai/*.map")])
+ROS = [entry for entry in CATALOGUE if entry.kind == "ros"]
 
 
-SHARED = _shared_files()
-ROS_YAMLS = [p for p in SHARED if p.suffix == ".yaml"]
-
-
-def _require_shared() -> None:
-    if not SHARED:
-        pytest.skip("the shared map collection ../shared/maps is absent")
+def _entry(name: str) -> MapEntry:
+    entry = lookup(name)
+    assert entry is not None, f"{name} is not in the catalogue"
+    return entry
 
 
 def _border_occupied(occupied: np.ndarray) -> bool:
@@ -77,44 +70,81 @@ def _image_window(grid_map: GridMap) -> tuple[slice, slice, tuple[slice, slice]]
     return slice(row0, row1), slice(col0, col1), grid
 
 
-# --------------------------------------------------------------------------- shared maps
+def _ros_pixels(grid_map: GridMap) -> np.ndarray:
+    """The pixels of a ROS map's image (the shipped maps store theirs as 8-bit PNG)."""
+    with Image.open(Path(str(grid_map.meta["image"]))) as image:
+        assert image.mode == "L", f"{grid_map.meta['image']}: mode {image.mode}, not 8-bit grey"
+        return np.asarray(image)
 
 
-@pytest.mark.parametrize("path", SHARED, ids=[p.name for p in SHARED])
-def test_shared_map_loads_sensibly(path: Path) -> None:
-    grid_map = load_map(path)
+# --------------------------------------------------------------------------- shipped maps
+
+
+@pytest.mark.parametrize("entry", CATALOGUE, ids=[entry.name for entry in CATALOGUE])
+def test_catalogue_map_loads_sensibly(entry: MapEntry) -> None:
+    grid_map = load_map(entry.path)
     occupied = grid_map.occupied
     assert occupied.dtype == bool and occupied.ndim == 2
     assert _border_occupied(occupied)
     largest = int(largest_free_component(occupied).sum())
-    if path.stem == "lse_arena":
+    if entry.name == "lse-arena":
         assert largest > 100
     else:
         assert largest >= 500
         assert largest >= 0.05 * occupied.size
-    assert grid_map.credit, "every shared map has a credit line"
-    assert grid_map.source == str(path)
-    if path.suffix == ".yaml":
+    assert grid_map.credit, "every catalogue map has a credit line"
+    assert grid_map.credit == entry.credit
+    assert grid_map.source == str(entry.path)
+    assert grid_map.name == entry.name
+    if entry.kind == "ros":
         assert grid_map.resolution_m is not None and grid_map.resolution_m > 0
     else:
         assert grid_map.resolution_m is None
 
 
-@pytest.mark.parametrize("path", ROS_YAMLS, ids=[p.parent.name + "/" + p.name for p in ROS_YAMLS])
-def test_shared_ros_maps_follow_the_trinary_rule(path: Path) -> None:
+@pytest.mark.parametrize("entry", ROS, ids=[entry.name for entry in ROS])
+def test_ros_maps_follow_the_trinary_rule(entry: MapEntry) -> None:
     """Inside the crop, a cell is free iff 1 - pixel/255 < free_thresh (negate 0)."""
-    grid_map = load_map(path)
-    image = read_pgm(Path(str(grid_map.meta["image"])))
+    grid_map = load_map(entry.path)
+    assert grid_map.meta["negate"] == 0
+    image = _ros_pixels(grid_map)
     free_thresh = float(grid_map.meta["free_thresh"])  # type: ignore[arg-type]
     rows, cols, grid = _image_window(grid_map)
     expected_free = (1.0 - image[rows, cols] / 255.0) < free_thresh
     np.testing.assert_array_equal(~grid_map.occupied[grid], expected_free)
 
 
+@pytest.mark.parametrize("entry", ROS, ids=[entry.name for entry in ROS])
+def test_ros_map_as_original_pgm_loads_the_same(tmp_path: Path, entry: MapEntry) -> None:
+    """The shipped PNG written back as a PGM under the source's file name (the AWS map
+    as ``aws_small_house/map.pgm``) reads, through the PGM reader, to the same grid,
+    and a generic stem such as ``map`` takes its folder's name. Credit follows the
+    bytes: the copy has it only where our PGM header happens to equal the original's
+    (depot), not where the original carries a GIMP comment."""
+    shipped = load_map(entry.path)
+    folder = tmp_path / "aws_small_house" if entry.name == "aws-small-house" else tmp_path
+    folder.mkdir(exist_ok=True)
+    pgm = _write(folder / entry.source_file, _p5(_ros_pixels(shipped)))
+    np.testing.assert_array_equal(read_pgm(pgm), _ros_pixels(shipped))
+    yaml_lines = [
+        f"image: {pgm.name}" if line.startswith("image:") else line
+        for line in entry.path.read_text().splitlines()
+    ]
+    copy = load_map(_write(pgm.with_suffix(".yaml"), "\n".join(yaml_lines) + "\n"))
+    np.testing.assert_array_equal(copy.occupied, shipped.occupied)
+    assert copy.resolution_m == shipped.resolution_m
+    assert copy.meta["origin"] == shipped.meta["origin"]
+    assert copy.meta["crop"] == shipped.meta["crop"]
+    same_bytes = hashlib.sha256(pgm.read_bytes()).hexdigest() == entry.source_sha256
+    assert copy.credit == (entry.credit if same_bytes else "")
+    assert load_map(pgm).credit == copy.credit
+    expected_name = "aws_small_house" if entry.name == "aws-small-house" else pgm.stem
+    assert copy.name == expected_name
+
+
 def test_intel_unknown_205_is_occupied_and_254_free() -> None:
-    _require_shared()
-    grid_map = load_map(MAPS / "ros" / "intel.yaml")
-    image = read_pgm(MAPS / "ros" / "intel.pgm")
+    grid_map = load_map(_entry("intel").path)
+    image = _ros_pixels(grid_map)
     rows, cols, grid = _image_window(grid_map)
     window, cells = image[rows, cols], grid_map.occupied[grid]
     assert set(np.unique(image).tolist()) <= {0, 205, 254}
@@ -126,9 +156,8 @@ def test_intel_unknown_205_is_occupied_and_254_free() -> None:
 
 
 def test_lse_arena_239_is_free() -> None:
-    _require_shared()
-    grid_map = load_map(MAPS / "ros" / "lse_arena.yaml")
-    image = read_pgm(MAPS / "ros" / "lse_arena.pgm")
+    grid_map = load_map(_entry("lse-arena").path)
+    image = _ros_pixels(grid_map)
     rows, cols, grid = _image_window(grid_map)
     window, cells = image[rows, cols], grid_map.occupied[grid]
     assert (window == 239).any()
@@ -136,11 +165,10 @@ def test_lse_arena_239_is_free() -> None:
     assert cells[window == 0].all()
 
 
-@pytest.mark.parametrize("stem", ["willow-full", "willow-2010-02-18-0.10"])
-def test_willow_grey_walls_are_occupied(stem: str) -> None:
-    _require_shared()
-    grid_map = load_map(MAPS / "ros" / f"{stem}.yaml")
-    image = read_pgm(MAPS / "ros" / f"{stem}.pgm")
+@pytest.mark.parametrize("name", ["willow-full", "willow-2010"])
+def test_willow_grey_walls_are_occupied(name: str) -> None:
+    grid_map = load_map(_entry(name).path)
+    image = _ros_pixels(grid_map)
     rows, cols, grid = _image_window(grid_map)
     window, cells = image[rows, cols], grid_map.occupied[grid]
     grey = (window > 0) & (window < 205)
@@ -149,16 +177,8 @@ def test_willow_grey_walls_are_occupied(stem: str) -> None:
     np.testing.assert_array_equal(cells, window <= 205)
 
 
-def test_aws_map_gets_its_folder_name_and_credit() -> None:
-    _require_shared()
-    grid_map = load_map(MAPS / "ros" / "aws_small_house" / "map.yaml")
-    assert grid_map.name == "aws_small_house"
-    assert grid_map.credit == CREDITS["aws_small_house/map.yaml"]
-
-
-def test_movingai_shared_map_matches_its_text() -> None:
-    _require_shared()
-    path = MAPS / "movingai" / "Berlin_1_256.map"
+def test_movingai_catalogue_map_matches_its_text() -> None:
+    path = _entry("Berlin_1_256").path
     assert b"\r\n" in path.read_bytes()
     grid_map = load_map(path)
     text_rows = path.read_text().splitlines()[4:]
@@ -168,14 +188,14 @@ def test_movingai_shared_map_matches_its_text() -> None:
     np.testing.assert_array_equal(inner, expected)
 
 
-def test_shared_map_resampled_to_coarser_cells() -> None:
-    _require_shared()
-    fine = load_map(MAPS / "ros" / "lse_arena.yaml")
-    coarse = load_map(MAPS / "ros" / "lse_arena.yaml", cell_size_m=0.1)
+def test_catalogue_map_resampled_to_coarser_cells() -> None:
+    path = _entry("lse-arena").path
+    fine = load_map(path)
+    coarse = load_map(path, cell_size_m=0.1)
     assert coarse.resolution_m == pytest.approx(0.1)
     assert coarse.shape == (math.ceil(fine.shape[0] / 2), math.ceil(fine.shape[1] / 2))
     with pytest.raises(MapFileError, match="finer"):
-        load_map(MAPS / "ros" / "lse_arena.yaml", cell_size_m=0.01)
+        load_map(path, cell_size_m=0.01)
 
 
 # --------------------------------------------------------------------------- PGM

@@ -21,6 +21,7 @@ from mrexplore.experiments.stats import (
     group_conditions,
     is_scenario_column,
     metric_columns,
+    metric_values,
     paired_differences,
     summarize_by_condition,
     summarize_metric,
@@ -400,3 +401,9 @@ def test_report_bytes_by_type_and_several_groups(tmp_path: Path) -> None:
 def test_report_rejects_unknown_metric(tmp_path: Path, runs: pa.Table) -> None:
     with pytest.raises(MrexploreInputError, match="'T42'"):
         write_report(runs, None, tmp_path, metrics=["T42"])
+
+
+def test_a_metric_no_run_reached_is_all_nan_not_an_error() -> None:
+    # A sweep whose runs all stop before 99% coverage stores T99 as a null column.
+    runs = pa.table({"strategy": ["a", "b"], "T99": pa.array([None, None], type=pa.null())})
+    assert np.isnan(metric_values(runs, "T99")).all()

@@ -1,6 +1,6 @@
-"""Reproduction of the decentralised market paper: the quick run end to end, the
-helpers on hand-made tables, the fall-back without shared maps, and the full run
-(slow)."""
+"""Reproduction of the decentralised market paper: the quick run end to end (on
+the two catalogue maps and the office), the helpers on hand-made tables, and the
+full run (slow)."""
 
 from __future__ import annotations
 
@@ -56,22 +56,17 @@ def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
     text = _check_report(quick_run)
     assert "**Quick run**" in text.split("## Settings")[0]
-    assert "Fallback" not in text
-    for arm in ("centralised", "decentralised", "rrt", "timer"):
-        assert (quick_run / f"office-{arm}" / "runs").is_dir()
+    for key in ("intel", "house", "office"):
+        for arm in ("centralised", "decentralised", "rrt", "timer"):
+            assert (quick_run / f"{key}-{arm}" / "runs").is_dir()
+    stores = [Store(path) for path in sorted(quick_run.iterdir()) if (path / "runs").is_dir()]
+    maps = {
+        m for store in stores for m in store.query("SELECT map FROM runs").column(0).to_pylist()
+    }
+    assert maps == {"intel", "aws-small-house", "office"}
     arms = text.split("## Arms", 1)[1].split("## Exploration time", 1)[0]
     for arm in repro.ARMS:
         assert f"`{arm}`" in arms
-
-
-def test_report_without_shared_maps_says_so(quick_run: Path, tmp_path: Path) -> None:
-    stores = {
-        path.name: Store(path) for path in sorted(quick_run.iterdir()) if (path / "runs").is_dir()
-    }
-    report = repro.report(stores, tmp_path, False, maps_root=tmp_path / "no-maps")
-    text = report.read_text()
-    assert "**Fallback**" in text
-    assert "`office` map is used" in text
 
 
 def test_registered() -> None:
@@ -82,7 +77,6 @@ def test_registered() -> None:
 
 def test_full_sweeps_cover_the_arms_maps_and_team_sizes() -> None:
     sweeps = repro.sweeps(False)
-    assert repro.maps_present()  # the test machine has ../shared/maps
     maps = ("intel", "house", "office")
     arms = ("centralised", "decentralised", "rrt", "timer")
     assert list(sweeps) == [f"{m}-{a}" for m in maps for a in arms]
@@ -91,16 +85,10 @@ def test_full_sweeps_cover_the_arms_maps_and_team_sizes() -> None:
         expected = 2 * n if name.endswith(("-decentralised", "-timer")) else n
         assert len(sweep) == expected, name
     scenario = sweeps["intel-timer"].runs()[0].scenario
-    assert scenario.map.endswith("ros/intel.yaml") and Path(scenario.map).is_file()
+    assert scenario.map == "intel"
     assert scenario.cell_size == repro.CELL_SIZE_M and scenario.sensor_range == "3m"
     assert scenario.params["event_based"] is False
     assert scenario.idle_ticks > max(repro.TIMER_PERIODS)
-
-
-def test_sweeps_fall_back_to_the_office_map(tmp_path: Path) -> None:
-    sweeps = repro.sweeps(False, tmp_path / "no-maps")
-    assert {name.split("-", 1)[0] for name in sweeps} == {"office"}
-    assert not repro.maps_present(tmp_path / "no-maps")
 
 
 # ------------------------------------------------------------------ helpers
@@ -185,7 +173,7 @@ def test_map_setups_convert_metres() -> None:
     assert list(setups) == ["intel", "house", "office"]
     assert setups["intel"].settings["sensor_range"] == "3m"
     assert setups["office"].settings["sensor_range"] == pytest.approx(15.0)
-    assert [s.key for s in repro.map_setups(True)] == ["office"]
+    assert [s.key for s in repro.map_setups(True)] == ["intel", "house", "office"]
 
 
 # ------------------------------------------------------------------ full run

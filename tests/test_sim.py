@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -136,19 +134,17 @@ def test_no_two_robots_ever_share_a_cell_in_a_crowd() -> None:
 
 
 @pytest.mark.parametrize(
-    ("relative", "options"),
+    ("name", "options"),
     [
-        ("ros/lse_arena.yaml", {"sensor_range": "1m"}),
-        ("movingai/room-32-32-4.map", {}),
-        ("movingai/den312d.map", {}),
-        ("ros/intel.yaml", {"cell_size": 0.2, "sensor_range": "3m"}),
+        ("lse-arena", {"sensor_range": "1m"}),
+        ("room-32-32-4", {}),
+        ("den312d", {}),
+        ("intel", {"cell_size": 0.2, "sensor_range": "3m"}),
     ],
 )
-def test_real_maps_complete_with_a_valid_trace(
-    shared_maps: Path, relative: str, options: dict[str, object]
-) -> None:
+def test_real_maps_complete_with_a_valid_trace(name: str, options: dict[str, object]) -> None:
     scenario = Scenario(
-        map=str(shared_maps / relative),
+        map=name,
         robots=4,
         strategy="burgard",
         seed=1,

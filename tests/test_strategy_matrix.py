@@ -12,7 +12,6 @@ default run keeps one small case per strategy.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -22,7 +21,6 @@ from mrexplore.sim import Scenario, simulate
 from mrexplore.sim.world import load_scenario_map
 from mrexplore.strategies.registry import available_strategies
 
-SHARED_MAPS = Path(__file__).resolve().parents[1] / ".." / "shared" / "maps"
 BUILT_IN = sorted(
     name
     for name, cls in available_strategies().items()
@@ -34,9 +32,9 @@ MAPS: dict[str, dict[str, Any]] = {
     "office": {"map": "office", "size": (100, 100)},
     "cityblock": {"map": "cityblock", "size": (100, 100)},
     "unstructured": {"map": "unstructured", "size": (100, 100)},
-    "room-64-64-8": {"map": str(SHARED_MAPS / "movingai" / "room-64-64-8.map")},
+    "room-64-64-8": {"map": "room-64-64-8"},
     "intel": {
-        "map": str(SHARED_MAPS / "ros" / "intel.yaml"),
+        "map": "intel",
         "cell_size": 0.2,
         "sensor_range": "3m",
     },
@@ -72,8 +70,6 @@ def _cases() -> list[Any]:
 
 def _run(strategy: str, params: dict[str, Any], map_name: str, robots: int, comm: str) -> None:
     settings = MAPS[map_name]
-    if str(settings["map"]).startswith(str(SHARED_MAPS)) and not (SHARED_MAPS / "ros").is_dir():
-        pytest.skip("the shared map collection ../shared/maps is absent")
     comm_range = math.inf
     if comm == "quarter":
         probe = Scenario(strategy=strategy, **settings)

@@ -56,7 +56,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
 
     run = sub.add_parser("run", help="run one exploration scenario")
-    run.add_argument("--map", required=True, help="generator id (see `mrexplore maps`) or map file")
+    run.add_argument(
+        "--map",
+        required=True,
+        help="generator id, shipped map name (see `mrexplore maps`) or map file",
+    )
     run.add_argument("--size", help="generator size WIDTHxHEIGHT in cells")
     run.add_argument("--map-seed", type=int, help="generator seed (default: --seed)")
     run.add_argument(
@@ -173,7 +177,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--json", action="store_true", help="print result.json instead of a table")
 
     sub.add_parser("strategies", help="list the registered strategies")
-    sub.add_parser("maps", help="list map generators and the bundled real maps")
+    sub.add_parser("maps", help="list map generators and the real maps that ship with the package")
 
     sweep = sub.add_parser("sweep", help="run a sweep file into a results folder")
     sweep.add_argument("file", help="sweep file (TOML: [sweep] seeds, [fixed], [grid])")
@@ -424,7 +428,8 @@ def cmd_strategies(args: argparse.Namespace) -> int:
 
 def cmd_maps(args: argparse.Namespace) -> int:
     from mrexplore.grid import list_generators
-    from mrexplore.grid.bundled import shared_maps
+    from mrexplore.grid.catalogue import DATA_DIR, MAPS_ENV, user_maps
+    from mrexplore.maps import summaries
 
     generators = list_generators()
     print("generators (--map NAME [--size WxH] [--map-seed N]):")
@@ -432,11 +437,37 @@ def cmd_maps(args: argparse.Namespace) -> int:
     for info in generators:
         w, h = info.default_size
         print(f"  {info.name:<{width}}  {info.description} (default {w}x{h})")
-    maps = shared_maps()
-    if maps:
-        print("real maps (--map PATH):")
-        for path in maps:
-            print(f"  {path}")
+    print(
+        "\nreal maps shipped with mrexplore (--map NAME; metres need a resolution, "
+        "e.g. --cell-size 0.2 --sensor-range 3m):"
+    )
+    rows = [("name", "cells (WxH)", "m/cell", "explorable", "licence", "source")]
+    for summary in summaries():
+        entry = summary.entry
+        resolution = "-" if summary.resolution_m is None else f"{summary.resolution_m:g}"
+        rows.append(
+            (
+                entry.name,
+                f"{summary.width}x{summary.height}",
+                resolution,
+                f"{summary.explorable_cells:,}",
+                entry.licence,
+                entry.source,
+            )
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    for row in rows:
+        cells = [f"{value:<{w}}" for value, w in zip(row[:-1], widths, strict=True)]
+        print("  " + "  ".join([*cells, row[-1]]))
+    print(
+        "  (explorable: cells of the largest free region at the file's resolution; "
+        f"credits and licences: {DATA_DIR / 'README.md'})"
+    )
+    own = user_maps()
+    if own:
+        print(f"\nyour maps (${MAPS_ENV}):")
+        for name, file in own.items():
+            print(f"  {name}  {file}")
     return 0
 
 

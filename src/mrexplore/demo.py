@@ -1,8 +1,7 @@
 """``make demo``: a short, visible run on a real map, with its GIF and results.
 
-Four robots running ``burgard`` on the Intel Research Lab map (resampled to
-0.2 m cells, 3 m sensor range), or on a generated office when the shared map
-collection is absent.
+Four robots running ``burgard`` on the Intel Research Lab map, which ships with
+the package (``--map intel``), resampled to 0.2 m cells, with a 3 m sensor range.
 """
 
 from __future__ import annotations
@@ -10,20 +9,15 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from mrexplore.grid.bundled import shared_maps_dir
 from mrexplore.sim.engine import Simulation
 from mrexplore.sim.scenario import Scenario
 
 
 def demo_scenario() -> Scenario:
-    """The demo's scenario: Intel lab if available, else a generated office."""
-    maps = shared_maps_dir()
-    intel = maps / "ros" / "intel.yaml" if maps is not None else None
-    if intel is not None and intel.exists():
-        return Scenario(
-            map=str(intel), cell_size=0.2, robots=4, strategy="burgard", sensor_range="3m", seed=1
-        )
-    return Scenario(map="office", size=(120, 80), robots=4, strategy="burgard", seed=1)
+    """The demo's scenario: four ``burgard`` robots on the Intel lab map."""
+    return Scenario(
+        map="intel", cell_size=0.2, robots=4, strategy="burgard", sensor_range="3m", seed=1
+    )
 
 
 def main(out_dir: str = "demo-out") -> int:

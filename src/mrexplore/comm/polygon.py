@@ -1,9 +1,9 @@
 r"""``polygon``: share polygonal approximations of the robots' maps, incrementally.
 
 D. Meier, C. Stachniss, W. Burgard, "Coordinating multiple robots during
-exploration under communication with limited bandwidth", ECMR 2005, §3 (the
-approximation and its incremental update) and §5 (split rate, package types,
-approximation error). Our copy: ``../shared/papers/meier-stachniss-burgard-limited-bandwidth.txt``.
+exploration under communication with limited bandwidth", Proc. European
+Conference on Mobile Robots (ECMR), 2005, §3 (the approximation and its
+incremental update) and §5 (split rate, package types, approximation error).
 The step-by-step mapping of the paper to this code, and every interpretation,
 is in ``docs/sharing/polygon.md``.
 

@@ -1,8 +1,7 @@
 """``sheng-sync``: Sheng et al. (2006) §4, map synchronisation "with tracking".
 
 W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area
-exploration", Robotics and Autonomous Systems 54 (2006), §4
-(``../shared/papers/sheng2006-distributed-bidding.txt``).
+exploration", Robotics and Autonomous Systems 54 (2006) 945-955, §4.
 
 Each robot R_i keeps
 

@@ -366,6 +366,8 @@ def metric_values(runs: pa.Table, metric: str) -> FloatArray:
             f"{', '.join(metric_columns(runs)) or 'none'}"
         )
     column = runs.column(metric)
+    if pa.types.is_null(column.type):  # no run has a value (e.g. T99 never reached)
+        return np.full(len(column), np.nan)
     if not (pa.types.is_integer(column.type) or pa.types.is_floating(column.type)):
         raise MrexploreInputError(f"column {metric!r} is {column.type}, not numeric")
     return _as_float(column)

@@ -41,9 +41,9 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mrexplore.errors import MapFileError, MrexploreInputError, UnknownIdError
-from mrexplore.grid import GENERATORS
+from mrexplore.errors import MapFileError, MrexploreInputError
 from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
+from mrexplore.sim.world import resolve_map
 
 
 class SweepError(MrexploreInputError):
@@ -150,10 +150,9 @@ def validate_scenario(scenario: Scenario) -> None:
     from mrexplore.strategies.registry import get_strategy, make_strategy
 
     scenario.validate()
-    if scenario.map not in GENERATORS and not Path(scenario.map).is_file():
-        if Path(scenario.map).suffix:
-            raise MapFileError(scenario.map, "no such file")
-        raise UnknownIdError("map generator (or missing map file)", scenario.map, list(GENERATORS))
+    map_path = resolve_map(scenario.map)
+    if map_path is not None and not map_path.is_file():
+        raise MapFileError(map_path, "not a map file")
     make_strategy(scenario.strategy, 0, scenario.robots, dict(scenario.params))
     sharing = scenario.sharing or get_strategy(scenario.strategy).default_sharing
     make_sharing(sharing, **scenario.sharing_params)

@@ -1,7 +1,7 @@
 """Read map files into :class:`~mrexplore.grid.occupancy.GridMap`, and write them back.
 
 Supported inputs (chosen by file extension; the formats are described in
-``FORMATS.md`` of the shared map collection, ``shared/maps``):
+``docs/maps.md``):
 
 ========================  =====================================================
 ``.yaml`` / ``.yml``      ROS ``map_server`` YAML plus its image (PGM, PNG, BMP)
@@ -52,10 +52,10 @@ import yaml
 from PIL import Image
 
 from mrexplore.errors import MapFileError, ScenarioError
+from mrexplore.grid.catalogue import credit_for_file
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BoolGrid, GridMap
 
 __all__ = [
-    "CREDITS",
     "DEFAULT_FREE_THRESH",
     "DEFAULT_OCCUPIED_THRESH",
     "MAX_CELLS",
@@ -81,47 +81,6 @@ _MAX_POLYGON_VERTS = 100_000
 _MAX_RASTER_WORK = 20_000_000  # edge/row crossings or outline samples for one polygon
 _ROS_MODES = ("trinary", "scale", "raw")
 _MAP_SUFFIXES = (".yaml", ".yml", ".pgm", ".png", ".bmp", ".map", ".json")
-
-_INTEL = (
-    "Intel Research Lab, Seattle: map from gondsm/mrgs_compression_benchmark, "
-    "built from the Freiburg SLAM logs (CC BY 1.0)"
-)
-_WILLOW = "Willow Garage: ros-planning/navigation_tutorials (BSD)"
-_WILLOW_2010 = "Willow Garage: turtlebot/turtlebot_apps (BSD)"
-_AWS = "AWS RoboMaker small house: aws-robotics/aws-robomaker-small-house-world (MIT-0)"
-_NAV2 = "ros-navigation/navigation2 nav2_bringup (Apache-2.0)"
-_LSE = "LSE arena: ros-planning/navigation_tutorials (BSD)"
-_MOVINGAI = "N. Sturtevant, MovingAI MAPF benchmark (movingai.com), via Kei18/pibt2 (MIT)"
-
-#: Credit lines for the maps of the shared collection (``shared/maps``, see its
-#: README), keyed by file name, or by ``folder/file name`` for generic names. A map
-#: keeps its credit wherever the file is copied, as long as its name is kept.
-CREDITS: dict[str, str] = {
-    "intel.yaml": _INTEL,
-    "intel.pgm": _INTEL,
-    "willow-full.yaml": _WILLOW,
-    "willow-full.pgm": _WILLOW,
-    "willow-2010-02-18-0.10.yaml": _WILLOW_2010,
-    "willow-2010-02-18-0.10.pgm": _WILLOW_2010,
-    "aws_small_house/map.yaml": _AWS,
-    "aws_small_house/map.pgm": _AWS,
-    "depot.yaml": "Nav2 depot: " + _NAV2,
-    "depot.pgm": "Nav2 depot: " + _NAV2,
-    "warehouse.yaml": "Nav2 warehouse: " + _NAV2,
-    "warehouse.pgm": "Nav2 warehouse: " + _NAV2,
-    "lse_arena.yaml": _LSE,
-    "lse_arena.pgm": _LSE,
-    "room-32-32-4.map": _MOVINGAI,
-    "room-64-64-8.map": _MOVINGAI,
-    "room-64-64-16.map": _MOVINGAI,
-    "maze-128-128-10.map": _MOVINGAI,
-    "random-64-64-10.map": _MOVINGAI,
-    "warehouse-20-40-10-2-2.map": _MOVINGAI,
-    "den312d.map": _MOVINGAI + "; level of the game Dragon Age: Origins (BioWare)",
-    "ht_chantry.map": _MOVINGAI + "; level of the game Dragon Age 2 (BioWare)",
-    "Berlin_1_256.map": _MOVINGAI + "; street map of Berlin",
-}
-
 
 # --------------------------------------------------------------------------- helpers
 
@@ -193,10 +152,6 @@ def _read_text(path: Path) -> str:
     if not text.strip():
         raise MapFileError(path, "empty file")
     return text
-
-
-def _credit_for(path: Path) -> str:
-    return CREDITS.get(f"{path.parent.name}/{path.name}") or CREDITS.get(path.name, "")
 
 
 def _map_name(path: Path) -> str:
@@ -608,7 +563,7 @@ def _load_ros(path: Path) -> GridMap:
         name=_map_name(path),
         resolution_m=resolution,
         source=str(path),
-        credit=_credit_for(path) or _credit_for(image_path),
+        credit=credit_for_file(path) or credit_for_file(image_path),
         meta={
             "format": "ros",
             "image": str(image_path),
@@ -637,7 +592,7 @@ def _load_bare_image(path: Path) -> GridMap:
         name=_map_name(path),
         resolution_m=None,
         source=str(path),
-        credit=_credit_for(path),
+        credit=credit_for_file(path),
         meta={
             "format": "image",
             "negate": 0,
@@ -709,7 +664,7 @@ def _load_movingai(path: Path) -> GridMap:
         name=_map_name(path),
         resolution_m=None,
         source=str(path),
-        credit=_credit_for(path),
+        credit=credit_for_file(path),
         meta={"format": "movingai", "type": type_words[1], "border_added": bool(border)},
     )
 
@@ -869,7 +824,7 @@ def load_map(
 
     Returns:
         The map, with ``name`` (file stem), ``resolution_m``, ``source`` (the
-        path), ``credit`` (for maps of the shared collection) and ``meta``.
+        path), ``credit`` (for the maps of :mod:`mrexplore.grid.catalogue`) and ``meta``.
 
     Raises:
         MapFileError: the file is missing, unreadable, malformed or too large.

@@ -1,8 +1,7 @@
 """Regional waiting-time and exploration-percentage variances (Wu, Puig & Garcia, §V.B).
 
 L. Wu, D. Puig, M. A. Garcia, "Balanced multi-robot exploration through a global
-optimization strategy" (plain text in
-``../shared/papers/wu-puig-garcia-balanced-kmeans.txt``), §V.B, eqs. (8)-(10).
+optimization strategy", Journal of Physical Agents 4(1), 2010, §V.B, eqs. (8)-(10).
 The paper judges a method by how evenly it serves the regions of the map: a
 victim should not wait much longer in one region than in another.
 

@@ -18,6 +18,7 @@ from mrexplore.grid import (
     largest_free_component,
     load_map,
 )
+from mrexplore.grid.catalogue import CATALOGUE, resolve_map_name, user_maps
 from mrexplore.sim.scenario import Cell, Scenario, parse_length
 
 _MAP_SUFFIXES = {".yaml", ".yml", ".pgm", ".png", ".bmp", ".map", ".json"}
@@ -37,19 +38,42 @@ class World:
         return int(np.count_nonzero(self.explorable))
 
 
-def load_scenario_map(scenario: Scenario) -> GridMap:
-    """Generate or load the scenario's map."""
-    name = scenario.map
+def resolve_map(name: str) -> Path | None:
+    """The file ``--map NAME`` stands for, or ``None`` for a generator.
+
+    A generator name wins, then a catalogue map, then a map of the user's
+    ``$MREXPLORE_MAPS`` folders, then a file path.
+
+    Raises:
+        MapFileError: ``name`` looks like a file path (it has an extension) that
+            does not exist.
+        UnknownIdError: ``name`` is neither a generator, a map name nor a file.
+    """
     if name in GENERATORS:
-        width, height = scenario.size if scenario.size is not None else (None, None)
-        map_seed = scenario.seed if scenario.map_seed is None else scenario.map_seed
-        return generate_map(name, width, height, seed=map_seed)
+        return None
+    named = resolve_map_name(name)
+    if named is not None:
+        return named
     path = Path(name)
     if path.suffix.lower() in _MAP_SUFFIXES or path.exists():
         if not path.exists():
             raise MapFileError(path, "no such file")
-        return load_map(path, cell_size_m=scenario.cell_size)
-    raise UnknownIdError("map generator (or missing map file)", name, list(GENERATORS))
+        return path
+    raise UnknownIdError(
+        "map (generator, catalogue map or file)",
+        name,
+        [*GENERATORS, *(entry.name for entry in CATALOGUE), *user_maps()],
+    )
+
+
+def load_scenario_map(scenario: Scenario) -> GridMap:
+    """Generate or load the scenario's map."""
+    path = resolve_map(scenario.map)
+    if path is None:
+        width, height = scenario.size if scenario.size is not None else (None, None)
+        map_seed = scenario.seed if scenario.map_seed is None else scenario.map_seed
+        return generate_map(scenario.map, width, height, seed=map_seed)
+    return load_map(path, cell_size_m=scenario.cell_size)
 
 
 def cells_from_length(value: float | str, grid: GridMap, option: str) -> float:

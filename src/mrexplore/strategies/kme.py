@@ -1,9 +1,8 @@
 """Wu, Puig & Garcia: balanced multi-robot exploration by K-Means regions (KME).
 
 L. Wu, D. Puig, M. A. Garcia, "Balanced multi-robot exploration through a global
-optimization strategy" (plain text in
-``../shared/papers/wu-puig-garcia-balanced-kmeans.txt``), §IV, eqs. (1)-(7) and
-the algorithm of §IV.D; it builds on A. Solanas, M. A. Garcia, "Coordinated
+optimization strategy", Journal of Physical Agents 4(1), 2010, §IV, eqs. (1)-(7)
+and the algorithm of §IV.D; it builds on A. Solanas, M. A. Garcia, "Coordinated
 multi-robot exploration through unsupervised clustering of unknown space",
 IROS 2004 (the K-Means partition). Doc page: ``docs/strategies/kme.md``.
 

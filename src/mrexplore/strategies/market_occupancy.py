@@ -1,8 +1,7 @@
 """Decentralised market-based exploration with a frontier occupancy function.
 
 "Decentralised market-based strategy for cooperative multi-robot exploration"
-(plain text, without the authors' names, in
-``../shared/papers/decentralised-market-frontier-occupancy.txt``), §III.B,
+(authors, venue and year not named in our copy of the paper), §III.B,
 eqs. (1)-(8) and Algorithm 1; frontier points from the RRT-based detector of
 H. Umari, S. Mukhopadhyay, "Autonomous robotic exploration based on multiple
 rapidly-exploring randomized trees", IROS 2017

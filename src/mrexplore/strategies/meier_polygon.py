@@ -1,9 +1,9 @@
 """Meier, Stachniss & Burgard: decentralised coordination over polygonal maps.
 
 D. Meier, C. Stachniss, W. Burgard, "Coordinating multiple robots during
-exploration under communication with limited bandwidth", ECMR 2005;
-``../shared/papers/meier-stachniss-burgard-limited-bandwidth.txt`` §4, eq. (1) and
-Algorithm 1. Its default map sharing is ``polygon`` (§3).
+exploration under communication with limited bandwidth", Proc. European
+Conference on Mobile Robots (ECMR), 2005, §4, eq. (1) and Algorithm 1. Its
+default map sharing is ``polygon`` (§3).
 
 Algorithm 1, per robot, whenever it needs a new target:
 

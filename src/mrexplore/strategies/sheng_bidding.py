@@ -1,9 +1,8 @@
 """Sheng, Yang, Tan & Xi (2006): distributed bidding with a nearness measure.
 
 W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area
-exploration", Robotics and Autonomous Systems 54 (2006);
-``../shared/papers/sheng2006-distributed-bidding.txt`` §2-3 (the method) and §5
-(the defaults). Its map synchronisation (§4) is the ``sheng-sync`` sharing
+exploration", Robotics and Autonomous Systems 54 (2006) 945-955; §2-3 (the
+method) and §5 (the defaults). Its map synchronisation (§4) is the ``sheng-sync`` sharing
 mechanism, this strategy's default sharing.
 
 Every robot runs the same program, asynchronously, with no central agent. A

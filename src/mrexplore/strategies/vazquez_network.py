@@ -2,7 +2,7 @@
 
 J. Vazquez, C. Malcolm, "Distributed multirobot exploration maintaining a mobile
 network", Proc. 2nd IEEE International Conference on Intelligent Systems (IS'04),
-Varna, 2004, vol. 3, pp. 113-118 (``../shared/papers/vazquez-malcolm-mobile-network.txt``).
+Varna, 2004, vol. 3, pp. 113-118.
 
 What is implemented (paper section -> code):
 

@@ -2,18 +2,19 @@
 centralised market, with and without event-based communication.
 
 "Decentralised market-based strategy for cooperative multi-robot exploration"
-(``../shared/papers/decentralised-market-frontier-occupancy.txt``; our copy names
-no authors and no year, the id says 2018). §IV: the strategy (``market-occupancy``)
-was "compared with coordinated centralized market model described in [3]"
-(Burgard et al. 2005, our ``burgard``) "in the different indoor environments
-(Fig. 9) with the number of robots from one to three", in ROS simulation. Our copy
+(authors, venue and year not named in our copy of the paper; the id says 2018).
+§IV: the strategy (``market-occupancy``) was "compared with coordinated
+centralized market model described in [3]" (Burgard et al. 2005, our
+``burgard``) "in the different indoor environments (Fig. 9) with the number of
+robots from one to three", in ROS simulation. Our copy
 of §IV has no numbers and no figure; the claims come from the abstract and §I-III
 and are typed in as ``PAPER_*`` constants.
 
 Experiments (``mrexplore reproduce market2018 --out DIR [--quick]``), on each of
-three indoor maps (Intel Research Lab and the AWS small house from
-``../shared/maps`` at 0.2 m per cell with a 3 m sensor, and our ``office``
-generator with a 15-cell sensor), 1, 2 and 3 robots, 10 seeds, these arms:
+three indoor maps (the Intel Research Lab and the AWS small house, which ship
+with the package as ``intel`` and ``aws-small-house``, at 0.2 m per cell with a
+3 m sensor, and our ``office`` generator with a 15-cell sensor), 1, 2 and 3
+robots, 10 seeds, these arms:
 
 ====================  ==========================================================
 arm                   what
@@ -28,8 +29,8 @@ arm                   what
                       negligible (``1e-9``): the frontier occupancy ablated
 ====================  ==========================================================
 
-One sweep per map and arm (``<map>-<arm>``). If ``../shared/maps`` is absent the
-reproduction falls back to the ``office`` map alone and the report says so.
+One sweep per map and arm (``<map>-<arm>``). ``--quick`` keeps the three maps
+(the office smaller) with 2 seeds (the RRT arm 1) and 2 and 3 robots.
 Exploration time is ``T99`` (ticks to 99% of the explorable cells); a run that
 ended without reaching it counts with its length (a lower bound), flagged in the
 tables. The helpers (:func:`arm_of`, :func:`run_numbers`, :func:`cell_summaries`,
@@ -77,8 +78,6 @@ CITATION = (
 
 # ----------------------------------------------------------------------- settings
 
-#: The shared map collection, found from the repository root (``../shared/maps``).
-SHARED_MAPS = Path(__file__).resolve().parents[4].parent / "shared" / "maps"
 #: §IV: "with the number of robots from one to three".
 TEAM_SIZES = (1, 2, 3)
 QUICK_TEAM_SIZES = (2, 3)
@@ -115,12 +114,11 @@ class MapSetup:
     note: str = ""
 
 
-def map_setups(quick: bool, maps_root: Path | None = SHARED_MAPS) -> list[MapSetup]:
-    """The environments: two real indoor maps and the ``office`` generator, or the
-    ``office`` generator alone when the shared maps are absent (or ``quick``).
+def map_setups(quick: bool) -> list[MapSetup]:
+    """The environments: two real indoor maps of the catalogue and the ``office`` generator.
 
-    >>> [m.key for m in map_setups(False, Path("/nonexistent"))]
-    ['office']
+    >>> [m.key for m in map_setups(True)]
+    ['intel', 'house', 'office']
     """
     office = MapSetup(
         "office",
@@ -135,29 +133,22 @@ def map_setups(quick: bool, maps_root: Path | None = SHARED_MAPS) -> list[MapSet
         "our `office` generator (rooms on both sides of corridors), one map "
         f"(`map_seed = 1`), cells read as {CELL_SIZE_M} m",
     )
-    if quick or maps_root is None or not (maps_root / "ros").is_dir():
-        return [office]
-    ros = maps_root / "ros"
     real = {"cell_size": CELL_SIZE_M, "sensor_range": f"{SENSOR_RANGE_M:g}m", "max_ticks": 10000}
     return [
         MapSetup(
             "intel",
             "Intel Research Lab",
-            {"map": str(ros / "intel.yaml"), **real},
-            "`../shared/maps/ros/intel.yaml` (real SLAM map, ring corridor and small rooms)",
+            {"map": "intel", **real},
+            "catalogue map `intel` (real SLAM map, ring corridor and small rooms)",
         ),
         MapSetup(
             "house",
             "AWS small house",
-            {"map": str(ros / "aws_small_house" / "map.yaml"), **real},
-            "`../shared/maps/ros/aws_small_house/map.yaml` (a Gazebo house mapped in ROS)",
+            {"map": "aws-small-house", **real},
+            "catalogue map `aws-small-house` (a Gazebo house mapped in ROS)",
         ),
         office,
     ]
-
-
-def maps_present(maps_root: Path | None = SHARED_MAPS) -> bool:
-    return maps_root is not None and (maps_root / "ros").is_dir()
 
 
 # ------------------------------------------------------------------------ arms
@@ -408,13 +399,13 @@ def _sweep(name: str, seeds: Sequence[int], fixed: dict[str, Any], grid: dict[st
     return sweep_from_dict(data, source=f"{ID}:{name}")
 
 
-def sweeps(quick: bool, maps_root: Path | None = SHARED_MAPS) -> dict[str, Sweep]:
+def sweeps(quick: bool) -> dict[str, Sweep]:
     """One sweep per map and arm (``<map>-<arm>``)."""
     seeds = QUICK_SEEDS if quick else SEEDS
     robots = {"robots": list(QUICK_TEAM_SIZES if quick else TEAM_SIZES)}
     market = {"strategy": "market-occupancy"}
     out: dict[str, Sweep] = {}
-    for setup in map_setups(quick, maps_root):
+    for setup in map_setups(quick):
         base = dict(setup.settings)
         arms: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
             CENTRALISED: ({**base, "strategy": "burgard"}, robots),
@@ -540,7 +531,7 @@ def _panels_figure(
     return path
 
 
-def _settings_section(quick: bool, setups: Sequence[MapSetup], fallback: bool) -> Lines:
+def _settings_section(quick: bool, setups: Sequence[MapSetup]) -> Lines:
     seeds = QUICK_SEEDS if quick else SEEDS
     sizes = QUICK_TEAM_SIZES if quick else TEAM_SIZES
     rows = [
@@ -628,24 +619,15 @@ def _settings_section(quick: bool, setups: Sequence[MapSetup], fallback: bool) -
         "cells, averaged over the run).",
         "",
     ]
-    if fallback:
-        lines += [
-            "> **Fallback**: `../shared/maps` was not found, so only the generated `office` "
-            "map is used.",
-            "",
-        ]
     return lines
 
 
-def report(
-    stores: Mapping[str, Store], out: Path, quick: bool, maps_root: Path | None = SHARED_MAPS
-) -> Path:
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     """Write ``out/report.md`` and its figures from the experiments' stores."""
     from mrexplore.viz.plots import plot_bytes_by_type
 
     out = Path(out)
-    setups = map_setups(quick, maps_root)
-    fallback = not quick and not maps_present(maps_root)
+    setups = map_setups(quick)
     labels = {s.key: s.label for s in setups}
     numbers: list[RunNumbers] = []
     failed = 0
@@ -670,7 +652,7 @@ def report(
     lines: Lines = [f"# Reproduction: {TITLE}", ""]
     if quick:
         lines += [
-            "> **Quick run** (`--quick`): the generated office only (80 x 56 cells), "
+            "> **Quick run** (`--quick`): the three maps (the office 80 x 56 cells), "
             f"{len(QUICK_SEEDS)} seeds (the RRT arm 1), {', '.join(map(str, QUICK_TEAM_SIZES))} "
             "robots. Its "
             "verdicts are indicative only; run without `--quick` for the full settings.",
@@ -684,7 +666,7 @@ def report(
         + ".",
         "",
     ]
-    lines += _settings_section(quick, setups, fallback)
+    lines += _settings_section(quick, setups)
     lines += ["## Arms", "", "| arm | what |", "|---|---|"]
     lines += [f"| `{arm}` | {ARM_LABELS[arm]} |" for arm in _arms_present(stats["time"])]
     lines += [

@@ -2,9 +2,7 @@
 
 D. Meier, C. Stachniss, W. Burgard, "Coordinating multiple robots during
 exploration under communication with limited bandwidth", Proc. of the European
-Conference on Mobile Robots (ECMR), 2005
-(``../shared/papers/meier-stachniss-burgard-limited-bandwidth.txt``; the
-reproduction id is ``meier2006``).
+Conference on Mobile Robots (ECMR), 2005 (the reproduction id is ``meier2006``).
 
 ``mrexplore reproduce meier2006 --out DIR [--quick]`` runs, into ``DIR/<experiment>/``:
 

@@ -1,8 +1,7 @@
 """Reproduction of Sheng, Yang, Tan and Xi (2006), section 5.
 
 W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area
-exploration", *Robotics and Autonomous Systems* 54 (2006) 945-955
-(``../shared/papers/sheng2006-distributed-bidding.txt``).
+exploration", *Robotics and Autonomous Systems* 54 (2006) 945-955.
 
 Experiments (``mrexplore reproduce sheng2006 --out DIR [--quick]``), all on the
 paper's 40 x 40 square with two obstacles (our generator ``sheng40``), sensor

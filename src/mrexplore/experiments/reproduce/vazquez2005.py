@@ -2,7 +2,7 @@
 
 J. Vazquez, C. Malcolm, "Distributed multirobot exploration maintaining a mobile
 network", Proc. 2nd IEEE International Conference on Intelligent Systems (IS'04),
-2004 (``../shared/papers/vazquez-malcolm-mobile-network.txt``, §4, Figs. 6-12).
+Varna, 2004, vol. 3, pp. 113-118 (§4, Figs. 6-12).
 
 The paper runs Khepera robots in Webots (robot 5 cm, sensor range diameter 45 cm)
 in a structured office-like environment of 10.2 m^2 and one of 23.5 m^2, with
@@ -1223,7 +1223,7 @@ REPRODUCTION = Reproduction(
     citation=(
         'J. Vazquez, C. Malcolm, "Distributed multirobot exploration maintaining a mobile '
         "network\", Proc. 2nd IEEE International Conference on Intelligent Systems (IS'04), "
-        "2004, §4, Figs. 6-12 (`../shared/papers/vazquez-malcolm-mobile-network.txt`)."
+        "Varna, 2004, vol. 3, pp. 113-118, §4, Figs. 6-12."
     ),
     sweeps=sweeps,
     report=report,

