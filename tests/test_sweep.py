@@ -259,3 +259,120 @@ def test_example_sweep_files_are_valid() -> None:
     assert examples
     for path in examples:
         assert len(load_sweep(path)) > 0, path
+
+
+# --------------------------------------------- resuming with another sweep (issue 13)
+RESUME_A = """[sweep]
+seeds = [1, 2]
+[fixed]
+map = "sheng40"
+sensor_range = 4
+robots = 2
+"""
+
+
+def _sweep_cli(file: Path, out: Path, *extra: str) -> int:
+    return main(["sweep", str(file), "--out", str(out), "--workers", "1", "--no-progress", *extra])
+
+
+@pytest.mark.parametrize(
+    ("change", "needle"),
+    [
+        (("sensor_range = 4", "sensor_range = 6"), "[fixed] sensor_range: 4 in {old}, 6 in {new}"),
+        (("seeds = [1, 2]", "seeds = [2, 3]"), "[sweep] seeds: 1 in {old}, not in {new}"),
+        (("robots = 2", "robots = 3"), "[fixed] robots: 2 in {old}, 3 in {new}"),
+        (("robots = 2\n", "robots = 2\nspeed = 2\n"), "[fixed] speed: not in {old}, 2 in {new}"),
+    ],
+)
+def test_resume_with_another_sweep_is_refused_naming_the_keys(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], change: tuple[str, str], needle: str
+) -> None:
+    first = _write(tmp_path, RESUME_A, "a.toml")
+    other = _write(tmp_path, RESUME_A.replace(*change), "b.toml")
+    out = tmp_path / "D"
+    assert _sweep_cli(first, out) == 0
+    before = sorted(p.name for p in out.rglob("*"))
+    capsys.readouterr()
+    assert _sweep_cli(other, out, "--resume") == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert needle.format(old=out / "sweep.toml", new=other) in err
+    assert f"--out {out} --resume" in err and "choose another --out folder" in err
+    # Nothing written: same files, the same sweep.toml, only the first sweep's rows.
+    assert sorted(p.name for p in out.rglob("*")) == before
+    assert (out / "sweep.toml").read_text() == RESUME_A
+    assert Store(out).query("SELECT count(*) AS n FROM runs").column("n")[0].as_py() == 2
+
+
+def test_resume_that_adds_seeds_and_values_records_the_new_sweep_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    first = _write(tmp_path, RESUME_A, "a.toml")
+    out = tmp_path / "D"
+    assert _sweep_cli(first, out) == 0
+    # One more seed, and robots from [fixed] 2 to [grid] [2, 3]: only adds runs.
+    larger_text = (
+        RESUME_A.replace("seeds = [1, 2]", "seeds = [1, 2, 3]").replace("robots = 2\n", "")
+        + "[grid]\nrobots = [2, 3]\n"
+    )
+    larger = _write(tmp_path, larger_text, "c.toml")
+    capsys.readouterr()
+    assert _sweep_cli(larger, out, "--resume") == 0
+    assert "4 runs done (0 failed), 2 already in" in capsys.readouterr().out
+    assert (out / "sweep.toml").read_text() == larger_text  # describes what the folder holds
+    assert (out / "sweep.toml.1").read_text() == RESUME_A  # the earlier file, kept
+    rows = Store(out).query("SELECT robots, seed FROM runs ORDER BY ALL").to_pylist()
+    assert [(r["robots"], r["seed"]) for r in rows] == [
+        (2, 1),
+        (2, 2),
+        (2, 3),
+        (3, 1),
+        (3, 2),
+        (3, 3),
+    ]
+    # The same sweep again (comments aside): nothing to run, no new copy kept.
+    _write(tmp_path, "# again\n" + larger_text, "c.toml")
+    assert _sweep_cli(larger, out, "--resume") == 0
+    assert sorted(p.name for p in out.glob("sweep.toml*")) == ["sweep.toml", "sweep.toml.1"]
+    # The first, smaller sweep no longer describes the folder.
+    assert _sweep_cli(first, out, "--resume") == 2
+    assert "[sweep] seeds: 3 in" in capsys.readouterr().err
+
+
+def test_resume_refuses_rows_of_another_sweep_without_a_sweep_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    first = _write(tmp_path, RESUME_A, "a.toml")
+    out = tmp_path / "D"
+    assert _sweep_cli(first, out) == 0
+    (out / "sweep.toml").unlink()  # e.g. a folder written by an older mrexplore
+    other = _write(tmp_path, RESUME_A.replace("sensor_range = 4", "sensor_range = 6"), "b.toml")
+    capsys.readouterr()
+    assert _sweep_cli(other, out, "--resume") == 2
+    assert "2 of the runs stored in" in capsys.readouterr().err
+    assert not (out / "sweep.toml").exists()
+
+
+def test_sweeps_built_in_python_record_an_equivalent_sweep_file(tmp_path: Path) -> None:
+    from mrexplore.experiments.sweep import sweep_to_toml
+
+    sweep = sweep_from_dict(
+        {
+            "sweep": {"seeds": [1, 2], "name": "mine", "curves_every": 5},
+            "fixed": {"map": "sheng40", "comm_range": math.inf, "fail": ["1@30"]},
+            "grid": {
+                "strategy": ["sheng-bidding"],
+                "robots": [2, 3],
+                "set": {"w3": [0.0, 1.5]},
+                "share": {},
+            },
+        }
+    )
+    text = sweep_to_toml(sweep)
+    again = load_sweep(_write(tmp_path, text, "again.toml"))
+    assert [s.run_id for s in again.runs()] == [s.run_id for s in sweep.runs()]
+    assert (again.name, again.curves_every) == ("mine", 5)
+    small = sweep_from_dict({"sweep": {"seeds": [1]}, "fixed": {"map": "sheng40", "robots": 2}})
+    run_sweep(small, tmp_path / "D", workers=1, progress=False)
+    recorded = load_sweep(tmp_path / "D" / "sweep.toml")
+    assert [s.run_id for s in recorded.runs()] == [s.run_id for s in small.runs()]

@@ -122,7 +122,8 @@ def check_strategy(name: str, *, max_ticks: int = 3000) -> None:
 
     Runs it with 1 and 3 robots on ``sheng40`` and a small ``office`` (twice each,
     to check determinism), checks that each run completes and that its trace is
-    valid, and that an unknown parameter is refused as bad input.
+    valid, that every parameter's default lies in its declared range, and that an
+    unknown parameter is refused as bad input.
     """
     from mrexplore.sim.engine import simulate
     from mrexplore.sim.scenario import Scenario
@@ -137,6 +138,11 @@ def check_strategy(name: str, *, max_ticks: int = 3000) -> None:
     for param, spec in cls.params.items():
         if not isinstance(spec.default, bool | int | float | str):
             problems.append(f"parameter {param!r} has a default that is not bool/int/float/str")
+        elif not spec.accepts(spec.default):
+            problems.append(
+                f"parameter {param!r} has a default {spec.default!r} outside its declared "
+                f"range ({spec.describe()})"
+            )
     try:
         cls(0, 1, **{"no_such_parameter_xyz": 1})
         problems.append("accepted an unknown parameter")

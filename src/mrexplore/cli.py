@@ -15,8 +15,17 @@ from typing import Any, NoReturn
 from mrexplore import __version__
 from mrexplore.errors import MrexploreInputError, ScenarioError
 
+#: What ``mrexplore --help`` says the tool is.
+DESCRIPTION = (
+    "Simulate teams of robots exploring unknown 2-D maps and compare the coordination "
+    "strategies of the literature under communication limits (range, multi-hop, "
+    "bandwidth, latency, loss), with exact byte counts."
+)
+
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
+#: 128 + SIGPIPE: what a shell reports for a Unix tool whose reader went away.
+EXIT_BROKEN_PIPE = 141
 
 
 class _Parser(argparse.ArgumentParser):
@@ -50,7 +59,7 @@ def _float(option: str) -> Any:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="mrexplore", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="mrexplore", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"mrexplore {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logs")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser, required=True)
@@ -61,75 +70,110 @@ def build_parser() -> argparse.ArgumentParser:
         required=True,
         help="generator id, shipped map name (see `mrexplore maps`) or map file",
     )
-    run.add_argument("--size", help="generator size WIDTHxHEIGHT in cells")
+    run.add_argument(
+        "--size",
+        help="generator size WIDTHxHEIGHT in cells (default: the generator's, see "
+        "`mrexplore maps`)",
+    )
     run.add_argument("--map-seed", type=int, help="generator seed (default: --seed)")
     run.add_argument(
-        "--cell-size", type=_float("--cell-size"), help="resample a file map to metres per cell"
+        "--cell-size",
+        type=_float("--cell-size"),
+        help="metres per cell: pool a map with a resolution to coarser cells, or give a "
+        "unitless map a resolution (default: the file's own cells)",
     )
     run.add_argument(
         "--robots", type=_positive_int("--robots"), default=4, help="team size (default: 4)"
     )
-    run.add_argument("--strategy", default="nearest-frontier", help="see `mrexplore strategies`")
+    run.add_argument(
+        "--strategy",
+        default="nearest-frontier",
+        help="strategy id, see `mrexplore strategies` (default: nearest-frontier)",
+    )
     run.add_argument(
         "--set",
         dest="params",
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="strategy parameter (repeatable)",
+        help="strategy parameter, listed in the strategy's docs (repeatable; default: the "
+        "paper's values)",
     )
-    run.add_argument("--sensor-range", default="8", help="cells, or metres with 'm' (2.5m)")
-    run.add_argument("--speed", type=_float("--speed"), default=1.0, help="cells per tick")
+    run.add_argument(
+        "--sensor-range",
+        default="8",
+        help="sensor radius: cells, or metres with 'm' such as 3m (default: 8 cells)",
+    )
+    run.add_argument(
+        "--speed",
+        type=_float("--speed"),
+        default=1.0,
+        help="cells of path per tick (default: 1)",
+    )
     run.add_argument(
         "--seed", type=int, default=0, help="master seed of every random choice (default: 0)"
     )
     run.add_argument(
         "--max-ticks",
         type=_positive_int("--max-ticks"),
-        help="limit on the run (default: 20 x explorable cells / speed)",
+        help="limit on the run, ticks (default: 20 x explorable cells / speed, at least 1000)",
     )
-    run.add_argument("--start", default="together", help="together | separate | 'R,C;R,C;...'")
+    run.add_argument(
+        "--start",
+        default="together",
+        help="together (adjacent cells) | separate (random cells) | 'R,C;R,C;...' "
+        "(default: together)",
+    )
     run.add_argument(
         "--sensing",
         default="moving",
         choices=["moving", "arrival"],
-        help="sense every tick, or only when not travelling (Sheng §2.1)",
+        help="sense every tick (moving), or only when not travelling (arrival, Sheng et al. "
+        "2006 §2.1) (default: moving)",
     )
-    comm = run.add_argument_group("communication (DESIGN §4)")
+    comm = run.add_argument_group("communication limits (default: unlimited and lossless)")
     comm.add_argument(
-        "--comm-range", help="communication range: cells, or metres with 'm' (default: inf)"
-    )
-    comm.add_argument(
-        "--comm-los", action="store_true", help="walls between two robots block their link"
-    )
-    comm.add_argument(
-        "--bandwidth", type=_float("--bandwidth"), help="bytes per tick per robot (default: inf)"
+        "--comm-range",
+        help="communication range: cells, or metres with 'm' (default: inf = unlimited)",
     )
     comm.add_argument(
-        "--latency", type=_positive_int("--latency"), help="ticks per hop (default: 1)"
+        "--comm-los",
+        action="store_true",
+        help="walls between two robots block their link (default: off)",
     )
     comm.add_argument(
-        "--loss", type=_float("--loss"), help="probability a reception is lost (default: 0)"
+        "--bandwidth",
+        type=_float("--bandwidth"),
+        help="bytes per tick per robot (default: inf = unlimited)",
+    )
+    comm.add_argument(
+        "--latency", type=_positive_int("--latency"), help="ticks per hop (default: 1 tick)"
+    )
+    comm.add_argument(
+        "--loss",
+        type=_float("--loss"),
+        help="probability in [0, 1] that a reception is lost (default: 0)",
     )
     comm.add_argument(
         "--comm",
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="any of range, los, bandwidth, latency, loss as key=value (repeatable)",
+        help="any of range, los, bandwidth, latency, loss as key=value, same units and "
+        "defaults as the options above (repeatable)",
     )
     comm.add_argument(
         "--fail",
         action="append",
         default=[],
         metavar="ROBOT@TICK",
-        help="robot ROBOT fails at tick TICK (repeatable)",
+        help="robot ROBOT (an id from 0) fails at tick TICK (repeatable; default: none)",
     )
     comm.add_argument(
         "--failure-rate",
         type=_float("--failure-rate"),
         default=0.0,
-        help="probability per tick that each live robot fails",
+        help="probability per tick that each live robot fails (default: 0)",
     )
     run.add_argument(
         "--sharing",
@@ -141,38 +185,48 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="parameter of the sharing mechanism, e.g. split_rate=1 (repeatable)",
+        help="parameter of the sharing mechanism, e.g. split_rate=1 with --sharing polygon "
+        "(repeatable; default: the mechanism's)",
     )
     run.add_argument(
         "--coverage-threshold",
         type=_float("--coverage-threshold"),
         default=0.99,
-        help="share of explorable cells that completes the run (default: 0.99)",
+        help="share of explorable cells in (0, 1] that completes the run (default: 0.99)",
     )
     run.add_argument(
         "--stall-ticks",
         type=_positive_int("--stall-ticks"),
-        help="ticks without new knowledge that end the run as stalled",
+        help="ticks without new team knowledge that end the run as stalled "
+        "(default: 1.5 x explorable cells / speed + 100)",
     )
     run.add_argument(
         "--idle-ticks",
         type=_positive_int("--idle-ticks"),
         default=10,
-        help="ticks with every robot idle and no message in flight that end the run",
+        help="ticks with every robot idle and no message in flight that end the run as "
+        "stalled (default: 10)",
     )
     run.add_argument(
         "--patience",
         type=_positive_int("--patience"),
         default=3,
-        help="ticks a robot waits behind another before it detours",
+        help="ticks a robot waits behind another before it detours (default: 3)",
     )
-    run.add_argument("--out", help="output folder (result.json, trace.npz, final.png)")
+    run.add_argument(
+        "--out", help="output folder for result.json, trace.npz, final.png (default: none)"
+    )
+    run.add_argument(
+        "--force",
+        action="store_true",
+        help="replace the --out folder whole if it is not empty (default: refuse it)",
+    )
     run.add_argument("--gif", action="store_true", help="also write run.gif")
     run.add_argument("--mp4", action="store_true", help="also write run.mp4 (needs ffmpeg)")
     run.add_argument(
         "--belief-panels",
         action="store_true",
-        help="record every robot's own map and show it in panels of run.gif/run.mp4",
+        help="record every robot's own map and show it in panels of run.gif/run.mp4 (default: off)",
     )
     run.add_argument("--json", action="store_true", help="print result.json instead of a table")
 
@@ -182,9 +236,15 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = sub.add_parser("sweep", help="run a sweep file into a results folder")
     sweep.add_argument("file", help="sweep file (TOML: [sweep] seeds, [fixed], [grid])")
     sweep.add_argument("--out", required=True, help="results folder (Parquet files)")
-    sweep.add_argument("--engine", default="local", help="local (default) | ray | dask")
     sweep.add_argument(
-        "--workers", type=_positive_int("--workers"), help="worker processes (default: cores)"
+        "--engine",
+        default="local",
+        help="local process pool | ray | dask (extras) (default: local)",
+    )
+    sweep.add_argument(
+        "--workers",
+        type=_positive_int("--workers"),
+        help="worker processes (default: the machine's cores)",
     )
     sweep.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
     sweep.add_argument("--resume", action="store_true", help="run only the runs missing from --out")
@@ -200,9 +260,15 @@ def build_parser() -> argparse.ArgumentParser:
     report.add_argument("dir", help="results folder written by `mrexplore sweep`")
     report.add_argument("--out", help="folder of report.md and its figures (default: DIR)")
     report.add_argument(
-        "--metric", action="append", default=[], help="metric column to report (repeatable)"
+        "--metric",
+        action="append",
+        default=[],
+        help="metric column to report (repeatable; default: T99, ticks, total_distance, "
+        "bytes_total, wtv_8_final)",
     )
-    report.add_argument("--baseline", help="compare every strategy with this one")
+    report.add_argument(
+        "--baseline", help="compare every strategy with this one (default: every pair)"
+    )
     report.add_argument("--title", help="the report's heading (default: the sweep's name)")
 
     replay = sub.add_parser("replay", help="write a run's self-contained replay.html")
@@ -227,10 +293,23 @@ def build_parser() -> argparse.ArgumentParser:
         "paper", help="sheng2006 | vazquez2005 | wu2011 | market2018 | meier2006"
     )
     reproduce.add_argument("--out", required=True, help="folder for the results and report.md")
-    reproduce.add_argument("--quick", action="store_true", help="reduced version (minutes)")
-    reproduce.add_argument("--engine", default="local", help="local (default) | ray | dask")
-    reproduce.add_argument("--workers", type=_positive_int("--workers"))
-    reproduce.add_argument("--address", help="Ray or Dask cluster to join")
+    reproduce.add_argument(
+        "--quick",
+        action="store_true",
+        help="reduced version, about a minute or less (default: the paper's settings, "
+        "minutes to an hour)",
+    )
+    reproduce.add_argument(
+        "--engine",
+        default="local",
+        help="local process pool | ray | dask (extras) (default: local)",
+    )
+    reproduce.add_argument(
+        "--workers",
+        type=_positive_int("--workers"),
+        help="worker processes (default: the machine's cores)",
+    )
+    reproduce.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
     reproduce.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
@@ -256,7 +335,9 @@ def _comm_settings(args: argparse.Namespace) -> dict[str, Any]:
             if key == "range":
                 settings["comm_range"] = value
             elif key == "los":
-                settings["comm_los"] = value.lower() in {"1", "true", "yes", "on"}
+                from mrexplore.sim.scenario import parse_switch
+
+                settings["comm_los"] = parse_switch(value, f"--comm {key}")
             elif key in {"bandwidth", "loss"}:
                 settings[key] = float(value)
             elif key == "latency":
@@ -265,6 +346,8 @@ def _comm_settings(args: argparse.Namespace) -> dict[str, Any]:
                 raise ScenarioError(
                     f"{option}: unknown key; use range, los, bandwidth, latency or loss"
                 )
+        except ScenarioError:
+            raise
         except ValueError:
             raise ScenarioError(f"{option}: not a number") from None
     if args.comm_range is not None:
@@ -319,8 +402,12 @@ def _fmt(value: Any) -> str:
     return "-" if value is None else str(value)
 
 
-def _check_out_dir(out: str) -> None:
-    """Refuse an output folder that cannot be written before spending time on a run."""
+def _check_out_dir(out: str, *, run: bool = False, force: bool = False) -> None:
+    """Refuse an output folder that cannot be written before spending time on a run.
+
+    With ``run`` (``mrexplore run --out``) the folder must also be new or empty
+    unless ``force`` (:func:`mrexplore.rundir.check_run_dir`).
+    """
     import os
     from pathlib import Path
 
@@ -330,6 +417,10 @@ def _check_out_dir(out: str) -> None:
     parent = path if path.exists() else next((p for p in path.parents if p.exists()), Path("."))
     if not os.access(parent, os.W_OK):
         raise ScenarioError(f"--out {out}: folder {parent} is not writable")
+    if run:
+        from mrexplore.rundir import check_run_dir
+
+        check_run_dir(out, force=force)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -346,9 +437,17 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_out_dir(args.out)
     _check_ffmpeg(args.mp4)
     simulation = Simulation(scenario, record_beliefs=True if args.belief_panels else None)
+    if args.out:  # after the map and start cells are known good: their errors come first
+        _check_out_dir(args.out, run=True, force=args.force)
     record = simulation.run()
     written = (
-        record.save(args.out, gif=args.gif, mp4=args.mp4, belief_panels=args.belief_panels)
+        record.save(
+            args.out,
+            gif=args.gif,
+            mp4=args.mp4,
+            belief_panels=args.belief_panels,
+            replace=True,  # written aside, then swapped in whole
+        )
         if args.out
         else {}
     )
@@ -388,13 +487,13 @@ def cmd_replay(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from mrexplore.viz import save_animation
-    from mrexplore.viz.replay import load_run, replay_html
+    from mrexplore.viz.replay import load_run, replay_html, write_text_file
 
     _check_ffmpeg(args.mp4)
     started = time.perf_counter()
     trace, result = load_run(args.run_dir)
     out = Path(args.out) if args.out else Path(args.run_dir) / "replay.html"
-    out.write_text(replay_html(trace, result), encoding="utf-8")
+    write_text_file(out, replay_html(trace, result), "--out")
     written = [out]
     title = f"{result.get('strategy', '')}, {result.get('n_robots', '')} robots on " + str(
         result.get("map_name", "")
@@ -486,15 +585,22 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             )
         print(f"{len(sweep)} runs")
         return 0
-    summary = run_sweep(
-        sweep,
-        args.out,
-        engine=args.engine,
-        workers=args.workers,
-        address=args.address,
-        resume=args.resume,
-        progress=not args.no_progress,
-    )
+    try:
+        summary = run_sweep(
+            sweep,
+            args.out,
+            engine=args.engine,
+            workers=args.workers,
+            address=args.address,
+            resume=args.resume,
+            progress=not args.no_progress,
+        )
+    except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: say what is kept
+        from mrexplore.experiments import Store
+
+        kept = len(Store(args.out).done_ids())
+        stop.args = (f"{kept} runs kept in {args.out}, resume with --resume",)
+        raise
     print(
         f"{summary.done} runs done ({summary.failed} failed), {summary.skipped} already in "
         f"{args.out}, {summary.total} in the sweep; {summary.wall_time_s:.1f} s"
@@ -522,12 +628,13 @@ def cmd_report(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from mrexplore.experiments import Store
-    from mrexplore.experiments.report import write_report
+    from mrexplore.experiments.report import check_baseline, write_report
 
     store = Store(args.dir)
     runs, curves = store.tables()
     if runs.num_rows == 0:
         raise ScenarioError(f"{args.dir}: the results folder holds no runs yet")
+    check_baseline(runs, args.baseline, args.dir)
     out = Path(args.out) if args.out else Path(args.dir)
     _check_out_dir(str(out))
     title = args.title or f"Sweep report: {Path(args.dir).resolve().name}"
@@ -588,6 +695,16 @@ COMMANDS = {
 }
 
 
+def _silence_stdout() -> None:
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # stdout without a file descriptor (tests)
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -595,14 +712,25 @@ def main(argv: Sequence[str] | None = None) -> int:
         level=logging.DEBUG if args.debug else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",
     )
+    from mrexplore._signals import interrupted, terminate_interrupts
+
     try:
-        return COMMANDS[args.command](args)
+        with terminate_interrupts():  # SIGTERM stops a command as Ctrl-C does
+            status = COMMANDS[args.command](args)
+            sys.stdout.flush()  # a reader that went away shows here, not at interpreter exit
+        return status
     except MrexploreInputError as error:
         print(f"mrexplore: error: {error}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("mrexplore: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as stop:  # "interrupted (SIGINT)" 130, "terminated (SIGTERM)" 143
+        line, status = interrupted(stop)
+        print(line, file=sys.stderr)
+        return status
+    except BrokenPipeError:
+        # The reader went away (`mrexplore query ... | head -1`): stop quietly, as Unix
+        # tools do, and keep Python from complaining when it flushes stdout at exit.
+        _silence_stdout()
+        return EXIT_BROKEN_PIPE
     except Exception as error:
         if args.debug:
             raise

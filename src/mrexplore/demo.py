@@ -24,7 +24,7 @@ def main(out_dir: str = "demo-out") -> int:
     scenario = demo_scenario()
     print(f"mrexplore demo: {scenario.robots} robots, {scenario.strategy}, map {scenario.map}")
     record = Simulation(scenario).run()
-    written = record.save(out_dir, gif=True)
+    written = record.save(out_dir, gif=True, replace=True)  # replaces an earlier demo-out whole
     result = record.result()
     print(
         f"status {result['status']} after {result['ticks']} ticks, "

@@ -79,7 +79,9 @@ class RangeLinks(LinkModel):
         ids = sorted(positions)
         if len(ids) < 2:
             return frozenset()
-        limit = self.comm_range**2
+        # A product, not ``**``: float ``**`` raises OverflowError past 1.8e308 (a range
+        # of 1e308 cells) where a product gives inf, and every pair is then in range.
+        limit = self.comm_range * self.comm_range
         pairs: list[tuple[int, int]]
         if len(ids) <= _SMALL_TEAM:
             # Plain Python beats numpy's set-up costs for a few robots; integer cells

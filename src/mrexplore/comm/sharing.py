@@ -304,11 +304,41 @@ def make_sharing(name: str, **params: Any) -> MapSharing:
     except KeyError:
         raise UnknownIdError("sharing mechanism", name, list(SHARING)) from None
     converted = {key: _number_or_text(value) for key, value in params.items()}
+    accepted = _parameter_names(factory)
+    foreign = [key for key in params if accepted is not None and key not in accepted]
+    if foreign:
+        key = foreign[0]
+        owners = [other for other, made in SHARING.items() if key in (_parameter_names(made) or ())]
+        where = (
+            f"it is a parameter of --sharing {' / '.join(owners)}"
+            if owners
+            else "no sharing mechanism has it"
+        )
+        takes = ", ".join(sorted(accepted or ())) or "no parameters"
+        raise ScenarioError(f"--share {key}={params[key]}: sharing {name!r} takes {takes}; {where}")
     try:
         return factory(**converted)
     except (TypeError, ValueError) as error:
         given = ", ".join(f"{k}={v}" for k, v in params.items())
         raise ScenarioError(f"--share {given}: not valid for {name!r} ({error})") from None
+
+
+def _parameter_names(factory: Callable[..., MapSharing]) -> set[str] | None:
+    """The keyword parameters a sharing mechanism's constructor accepts (``None``:
+    unknown, it takes ``**kwargs`` or has no signature)."""
+    import inspect
+
+    try:
+        signature = inspect.signature(factory)
+    except (TypeError, ValueError):
+        return None
+    if any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values()):
+        return None
+    return {
+        name
+        for name, parameter in signature.parameters.items()
+        if parameter.kind in (parameter.POSITIONAL_OR_KEYWORD, parameter.KEYWORD_ONLY)
+    }
 
 
 def _number_or_text(value: Any) -> Any:

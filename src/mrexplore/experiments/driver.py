@@ -2,17 +2,30 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import sys
 import time
+import tomllib
+import uuid
 from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
+from mrexplore.errors import MrexploreInputError
 from mrexplore.experiments.engines import Engine, WorkerLost, make_engine
 from mrexplore.experiments.runner import RunOutcome, execute, scenario_columns
 from mrexplore.experiments.store import COMPACT_AFTER, Store, StoreError
-from mrexplore.experiments.sweep import RunSpec, Sweep, load_sweep
+from mrexplore.experiments.sweep import (
+    RunSpec,
+    Sweep,
+    SweepError,
+    load_sweep,
+    resume_differences,
+    sweep_data,
+    sweep_from_dict,
+    sweep_to_toml,
+)
 
 
 @dataclass(frozen=True)
@@ -57,13 +70,15 @@ def run_sweep(
             )
     elif not store.exists() and root.exists() and any(root.iterdir()) and not resume:
         raise StoreError(f"--out {out}: folder is not empty and is not a results folder")
+    specs = sweep.runs()
+    new_text = _sweep_text(sweep, source)
+    if resume:
+        _check_resume(sweep, specs, out, store, new_text)
     store.create()
     store.recover()
     store.compact(minimum=COMPACT_AFTER)
-    if source is not None and not (root / "sweep.toml").exists():
-        shutil.copyfile(source, root / "sweep.toml")
+    _record_sweep_file(root / "sweep.toml", new_text)
 
-    specs = sweep.runs()
     done = store.done_ids()
     todo = [spec for spec in specs if spec.run_id not in done]
     started = time.perf_counter()
@@ -98,6 +113,96 @@ def run_sweep(
         failed=failed,
         wall_time_s=time.perf_counter() - started,
     )
+
+
+def _sweep_text(sweep: Sweep, source: Path | None) -> str | None:
+    """The text ``DIR/sweep.toml`` should hold for ``sweep``: its file, or for a sweep
+    built in Python its TOML form (``None`` if a value has none)."""
+    if source is not None:
+        return source.read_text()
+    try:
+        return sweep_to_toml(sweep)
+    except ValueError:
+        return None
+
+
+def _check_resume(
+    sweep: Sweep, specs: list[RunSpec], out: str | Path, store: Store, new_text: str | None
+) -> None:
+    """Refuse to resume a folder with a sweep that does more than add seeds or grid
+    values to the one the folder holds (the rows of two sweeps would mix)."""
+    recorded = Path(out) / "sweep.toml"
+    new_name = sweep.source if sweep.source != "<sweep>" else "the sweep"
+    refuse = f"--out {out} --resume: {new_name} is not the sweep of this folder"
+    ids = {spec.run_id for spec in specs}
+    if recorded.is_file():
+        old_text = recorded.read_text(errors="replace")
+        try:
+            old_data = tomllib.loads(old_text)
+        except tomllib.TOMLDecodeError:
+            old_data = None  # hand-edited into nonsense: only the rows can tell
+        if old_data is not None and old_text != new_text:
+            new_data = tomllib.loads(new_text) if new_text is not None else sweep_data(sweep)
+            problems = resume_differences(old_data, new_data, str(recorded), new_name)
+            try:
+                old_ids = {spec.run_id for spec in sweep_from_dict(old_data, str(recorded)).runs()}
+            except MrexploreInputError:  # no longer valid (a map file moved, ...)
+                old_ids = None
+            # The runs decide when both files expand (an explicit default is no change).
+            if (old_ids is None and problems) or (old_ids is not None and not old_ids <= ids):
+                detail = "; ".join(problems) or (
+                    f"{len((old_ids or set()) - ids)} runs of {recorded} are not in {new_name}"
+                )
+                raise SweepError(
+                    f"{refuse} and not one that only adds seeds or grid values: {detail}; "
+                    "choose another --out folder"
+                )
+    strangers = store.done_ids() - ids
+    if strangers:
+        raise SweepError(
+            f"{refuse}: {len(strangers)} of the runs stored in {out} are not runs of "
+            f"{new_name} (another sweep, or another mrexplore version); choose another "
+            "--out folder"
+        )
+
+
+def _record_sweep_file(path: Path, text: str | None) -> None:
+    """Make ``DIR/sweep.toml`` describe the folder: write it if missing; if it holds
+    another sweep (a resume that added seeds or grid values), keep it as
+    ``sweep.toml.1`` (``.2``, ...) and write the new one. Atomic: ``sweep.toml``
+    always exists once written."""
+    if text is None:
+        return
+    if path.is_file():
+        old = path.read_text(errors="replace")
+        if old == text:
+            return
+        try:
+            if tomllib.loads(old) == tomllib.loads(text):
+                return  # comments or layout only
+        except tomllib.TOMLDecodeError:
+            pass
+    temporary = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    with open(temporary, "w") as handle:
+        handle.write(text)
+        handle.flush()
+        os.fsync(handle.fileno())
+    if path.is_file():
+        number = 1
+        while True:
+            kept = path.with_name(f"{path.name}.{number}")
+            try:
+                os.link(path, kept)  # never replaces an earlier kept file
+                break
+            except FileExistsError:
+                number += 1
+            except OSError:  # no hard links here: copy instead
+                if kept.exists():
+                    number += 1
+                    continue
+                shutil.copyfile(path, kept)
+                break
+    os.replace(temporary, path)
 
 
 def _lost(spec: RunSpec, lost: WorkerLost) -> RunOutcome:

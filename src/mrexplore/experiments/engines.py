@@ -17,6 +17,21 @@ scenario, so the same sweep gives the same rows on every engine (wall times asid
 
 A worker that dies (a crashed process, a lost node) makes its run a failure with
 the reason; the sweep goes on.
+
+Workers die with the sweep. Leaving the engine's ``with`` block by an exception
+(Ctrl-C, SIGTERM through the CLI, an error) calls :meth:`Engine.abort`, which
+stops the runs in flight at once instead of waiting for them. If the sweep's
+process is killed outright (SIGKILL), the processes it started end by themselves:
+
+* ``local``: the fork server and every worker are bound to it
+  (:mod:`mrexplore.experiments._lifeline`: ``PR_SET_PDEATHSIG`` on Linux, and a
+  watchdog thread in each worker everywhere) and are gone within a second.
+* ``dask`` (a local cluster): each worker process watches a pipe from the sweep's
+  process and exits when it closes (Dask's own ``AsyncProcess`` mechanism).
+* ``ray`` (a local instance): Ray starts its processes sharing the driver's
+  fate (``PR_SET_PDEATHSIG`` on Linux) and its workers exit with the raylet.
+* A cluster joined with ``--address`` is not ours: its processes stay; an
+  aborted sweep cancels its tasks there, a killed one cannot.
 """
 
 from __future__ import annotations
@@ -75,11 +90,19 @@ class Engine(ABC):
     def close(self) -> None:  # noqa: B027  (optional hook)
         """Release the workers."""
 
+    def abort(self) -> None:
+        """Release the workers now, dropping the runs in flight (the sweep was
+        interrupted); by default the same as :meth:`close`."""
+        self.close()
+
     def __enter__(self) -> Engine:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, exc_type: type[BaseException] | None, *exc: object) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
 
 
 class LocalEngine(Engine):
@@ -103,20 +126,51 @@ class LocalEngine(Engine):
 
     def _pool(self) -> Any:
         """The process pool, started on first use and kept for later sweeps."""
+        import threading
         from concurrent.futures import ProcessPoolExecutor
+
+        from mrexplore.experiments._lifeline import worker_initializer
 
         if self._executor is None:
             context = multiprocessing.get_context("forkserver")
             # Workers fork from a server that has imported the simulator and loaded its
             # compiled kernels once (effective when this process starts its server).
-            context.set_forkserver_preload(["mrexplore.experiments._warm"])
-            self._executor = ProcessPoolExecutor(max_workers=self.workers, mp_context=context)
+            # The server dies with the thread that starts it (PR_SET_PDEATHSIG): only
+            # the main thread, which lives as long as this process, binds it so.
+            preload = ["mrexplore.experiments._warm"]
+            if threading.current_thread() is threading.main_thread():
+                preload.insert(0, "mrexplore.experiments._forkserver_init")
+            context.set_forkserver_preload(preload)
+            self._executor = ProcessPoolExecutor(
+                max_workers=self.workers,
+                mp_context=context,
+                initializer=worker_initializer,
+                initargs=(os.getpid(),),
+            )
         return self._executor
 
     def close(self) -> None:
         if self._executor is not None:
             self._executor.shutdown(wait=True, cancel_futures=True)
             self._executor = None
+
+    def abort(self) -> None:
+        """Kill the workers (their runs are lost, as in a crash) and drop the pool."""
+        executor, self._executor = self._executor, None
+        if executor is None:
+            return
+        processes = list((getattr(executor, "_processes", None) or {}).values())
+        for process in processes:
+            try:
+                process.kill()
+            except (OSError, ValueError, AttributeError):  # already gone
+                pass
+        executor.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            try:
+                process.join(timeout=5)
+            except (OSError, ValueError, AssertionError):
+                pass
 
     def _pool_map(
         self, function: Callable[[T], R], items: Iterable[T]
@@ -178,6 +232,7 @@ class RayEngine(Engine):
                 "--engine ray: Ray is not installed; pip install 'mrexplore[ray]'"
             ) from None
         self._ray = ray
+        self._reaper: Any = None
         self._started = not ray.is_initialized()
         if self._started:
             options: dict[str, Any] = {
@@ -189,10 +244,23 @@ class RayEngine(Engine):
                 options["address"] = address
             else:
                 options["num_cpus"] = self.workers
+            import signal
+            import threading
+
+            main_thread = threading.current_thread() is threading.main_thread()
+            sigterm = signal.getsignal(signal.SIGTERM) if main_thread else None
+            if not address:
+                self._reaper = _start_reaper()
             try:
                 ray.init(**options)
             except (ConnectionError, RuntimeError, ValueError) as error:
+                self._stop_reaper()
                 raise EngineError(f"--engine ray --address {address}: {error}") from None
+            finally:
+                # ray.init takes SIGTERM over (sys.exit, then its core's crash handler,
+                # which aborts); give it back, so SIGTERM stops a sweep as Ctrl-C does.
+                if main_thread and sigterm is not None:
+                    signal.signal(signal.SIGTERM, sigterm)
         if address:  # use what the cluster offers
             self.workers = max(1, int(ray.cluster_resources().get("CPU", self.workers)))
 
@@ -203,6 +271,7 @@ class RayEngine(Engine):
         remote = ray.remote(num_cpus=1, max_retries=1)(function)
         pending = iter(items)
         running: dict[Any, T] = {}
+        self._running = running  # what abort() cancels
         while True:
             while len(running) < self.in_flight:
                 item = next(pending, None)
@@ -222,6 +291,27 @@ class RayEngine(Engine):
     def close(self) -> None:
         if self._started:
             self._ray.shutdown()
+        self._stop_reaper()
+
+    def _stop_reaper(self) -> None:
+        reaper, self._reaper = self._reaper, None
+        if reaper is not None:
+            try:
+                reaper.communicate(b"stop\n", timeout=5)
+            except Exception:  # it is only a safety net
+                reaper.kill()
+
+    def abort(self) -> None:
+        # A local instance goes with shutdown(); only a cluster we joined keeps running
+        # our tasks. (Not forced: ray.cancel(force=True) racing a task that just
+        # finished can abort the driver, a Ray bug seen with Ray 2.60.)
+        if self.address:
+            for ref in list(getattr(self, "_running", {})):
+                try:
+                    self._ray.cancel(ref)
+                except Exception:  # finished or gone meanwhile
+                    pass
+        self.close()
 
 
 class DaskEngine(Engine):
@@ -263,6 +353,7 @@ class DaskEngine(Engine):
 
         pending = iter(items)
         running: dict[Any, T] = {}
+        self._running = running  # what abort() cancels
         completed = as_completed([], with_results=False)
 
         def submit() -> None:
@@ -292,6 +383,42 @@ class DaskEngine(Engine):
         self._client.close()
         if self._cluster is not None:
             self._cluster.close()
+
+    def abort(self) -> None:
+        running = list(getattr(self, "_running", {}))
+        if running:
+            try:
+                self._client.cancel(running, force=True)
+            except Exception:  # the scheduler is already gone
+                pass
+        self._client.close(timeout=5)
+        if self._cluster is not None:
+            self._cluster.close(timeout=5)
+
+
+def _start_reaper() -> Any:
+    """Start :mod:`mrexplore.experiments._reaper` watching this process: it ends the
+    processes of a local Ray if this process dies without closing the engine."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    try:
+        import psutil
+
+        existing = [str(child.pid) for child in psutil.Process().children()]
+    except Exception:  # no psutil: Ray's own fate sharing only
+        return None
+    script = Path(__file__).with_name("_reaper.py")
+    try:
+        return subprocess.Popen(
+            [sys.executable, str(script), str(os.getpid()), *existing],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    except OSError:
+        return None
 
 
 def make_engine(name: str, workers: int | None = None, address: str | None = None) -> Engine:

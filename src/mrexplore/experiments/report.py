@@ -429,6 +429,29 @@ def _choose_metrics(runs: pa.Table, metrics: Sequence[str] | None) -> tuple[list
     return list(metrics), []
 
 
+def check_baseline(runs: pa.Table, baseline: Any, where: str = "these runs") -> None:
+    """Refuse a ``baseline`` that is not one of the strategies of ``runs``.
+
+    ``where`` names the runs in the message (the results folder, on the command line).
+
+    Raises:
+        MrexploreInputError: ``baseline`` is not a strategy of ``runs``; the message
+            lists the strategies there are.
+    """
+    if baseline is None:
+        return
+    found = (
+        sorted({str(s) for s in runs.column("strategy").to_pylist() if s is not None})
+        if "strategy" in runs.column_names
+        else []
+    )
+    if str(baseline) not in found:
+        raise MrexploreInputError(
+            f"--baseline {baseline}: not a strategy of the runs in {where}; "
+            f"strategies: {', '.join(found) or 'none'}"
+        )
+
+
 def write_report(
     runs: pa.Table,
     curves: pa.Table | None,
@@ -453,8 +476,10 @@ def write_report(
         baseline: compare every strategy with this one; default every pair.
 
     Raises:
-        MrexploreInputError: a named metric is not a numeric column of ``runs``.
+        MrexploreInputError: a named metric is not a numeric column of ``runs``, or
+            ``baseline`` is not one of its strategies.
     """
+    check_baseline(runs, baseline)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     chosen, absent = _choose_metrics(runs, metrics)

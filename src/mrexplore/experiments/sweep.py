@@ -313,3 +313,151 @@ def column_name(key: str) -> str:
     if key.startswith("share."):
         return "share_" + key[6:]
     return key
+
+
+# ------------------------------------------------------- resuming and sweep.toml
+def sweep_data(sweep: Sweep) -> dict[str, Any]:
+    """The TOML data of ``sweep`` (what :func:`sweep_from_dict` reads back)."""
+    head: dict[str, Any] = {}
+    if sweep.name != "sweep" and (
+        sweep.source == "<sweep>" or sweep.name != Path(sweep.source).stem
+    ):
+        head["name"] = sweep.name
+    if sweep.description:
+        head["description"] = sweep.description
+    head["seeds"] = list(sweep.seeds)
+    if sweep.curves_every != 10:
+        head["curves_every"] = sweep.curves_every
+    data: dict[str, Any] = {"sweep": head}
+    if sweep.fixed:
+        data["fixed"] = dict(sweep.fixed)
+    if sweep.grid:
+        data["grid"] = dict(sweep.grid)
+    return data
+
+
+def _toml_key(key: str) -> str:
+    if key and all(c.isascii() and (c.isalnum() or c in "_-") for c in key):
+        return key
+    return json.dumps(key)
+
+
+def _toml_value(value: Any) -> str:
+    """A TOML literal for a value of a sweep (ValueError for anything else)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, Mapping):
+        items = (f"{_toml_key(str(k))} = {_toml_value(v)}" for k, v in value.items())
+        return "{" + ", ".join(items) + "}"
+    raise ValueError(f"{value!r}: not representable in a sweep file")
+
+
+def sweep_to_toml(sweep: Sweep) -> str:
+    """A sweep file with the runs of ``sweep`` (``ValueError`` if a value has no TOML
+    form). Used for sweeps built in Python, which have no file to copy."""
+    lines: list[str] = []
+    for table, content in sweep_data(sweep).items():
+        plain = {k: v for k, v in content.items() if k not in ("set", "share")}
+        if lines:
+            lines.append("")
+        lines.append(f"[{table}]")
+        lines += [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in plain.items()]
+        for sub in ("set", "share"):
+            if table != "sweep" and isinstance(content.get(sub), Mapping):
+                lines += ["", f"[{table}.{sub}]"]
+                lines += [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in content[sub].items()]
+    return "\n".join(lines) + "\n"
+
+
+def _settings(data: Mapping[str, Any]) -> dict[str, tuple[str, list[Any]]]:
+    """Every setting of a sweep's TOML data: key -> (table, values it takes)."""
+    out: dict[str, tuple[str, list[Any]]] = {}
+    for table in ("fixed", "grid"):
+        content = data.get(table) or {}
+        if not isinstance(content, Mapping):
+            continue
+        for key, value in content.items():
+            if key in ("set", "share") and isinstance(value, Mapping):
+                entries = [(f"{key}.{k}", v, f"{table}.{key}") for k, v in value.items()]
+            else:
+                entries = [(key, value, table)]
+            for name, raw, where in entries:
+                if table == "grid":
+                    values = list(raw) if isinstance(raw, list) else [raw]
+                else:
+                    values = [raw]
+                out[name] = (where, values)
+    return out
+
+
+def _canonical(key: str, value: Any) -> str:
+    """One text for equal settings given in different forms ("30x30" and [30, 30])."""
+    try:
+        converted = value if "." in key else _convert(key, value)
+    except (MrexploreInputError, TypeError, ValueError):
+        converted = value
+    return json.dumps(_jsonable(converted), sort_keys=True, default=repr)
+
+
+def _shown(table: str, values: list[Any]) -> str:
+    try:
+        return _toml_value(values[0] if table.startswith("fixed") else values)
+    except ValueError:
+        return repr(values[0] if table.startswith("fixed") else values)
+
+
+def resume_differences(
+    old: Mapping[str, Any], new: Mapping[str, Any], old_name: str, new_name: str
+) -> list[str]:
+    """What keeps the sweep ``new`` from resuming the folder of the sweep ``old`` (both
+    TOML data): every difference except added seeds and added grid values, e.g.
+    ``"[fixed] sensor_range: 4 in A, 6 in B"``. Empty when ``new`` only adds."""
+    problems: list[str] = []
+    old_head = old.get("sweep") if isinstance(old.get("sweep"), Mapping) else {}
+    new_head = new.get("sweep") if isinstance(new.get("sweep"), Mapping) else {}
+    assert isinstance(old_head, Mapping) and isinstance(new_head, Mapping)
+    old_seeds, new_seeds = list(old_head.get("seeds", [])), list(new_head.get("seeds", []))
+    dropped = [s for s in old_seeds if s not in new_seeds]
+    if dropped:
+        listed = ", ".join(str(s) for s in dropped)
+        problems.append(f"[sweep] seeds: {listed} in {old_name}, not in {new_name}")
+    old_every, new_every = old_head.get("curves_every", 10), new_head.get("curves_every", 10)
+    if old_every != new_every:
+        problems.append(
+            f"[sweep] curves_every: {old_every} in {old_name}, {new_every} in {new_name}"
+        )
+    before, after = _settings(old), _settings(new)
+    for key in [*before, *(k for k in after if k not in before)]:
+        was, now = before.get(key), after.get(key)
+        if was is not None and now is not None:
+            kept = {_canonical(key, v) for v in now[1]}
+            if all(_canonical(key, v) in kept for v in was[1]):
+                continue  # the same, or more values
+        name = key.split(".", 1)[1] if "." in key else key
+        if was is None:
+            assert now is not None
+            problems.append(f"[{now[0]}] {name}: not in {old_name}, {_shown(*now)} in {new_name}")
+        elif now is None:
+            problems.append(f"[{was[0]}] {name}: {_shown(*was)} in {old_name}, not in {new_name}")
+        elif was[0] == now[0]:
+            problems.append(
+                f"[{was[0]}] {name}: {_shown(*was)} in {old_name}, {_shown(*now)} in {new_name}"
+            )
+        else:
+            problems.append(
+                f"{name}: [{was[0]}] {_shown(*was)} in {old_name}, "
+                f"[{now[0]}] {_shown(*now)} in {new_name}"
+            )
+    return problems

@@ -381,23 +381,52 @@ def _trinary(
     negate: bool,
     occupied_thresh: float,
     free_thresh: float,
+    mode: str = "trinary",
 ) -> npt.NDArray[np.int8]:
-    """map_server trinary rule (FORMATS.md §1.3) applied through a lookup table.
+    """The cell classes ROS ``map_server`` gives an image, through a lookup table.
 
     ``pixel_sum`` is the sum over ``channels`` colour channels, so the pixel value
-    is ``pixel_sum / channels``. Returns ``FREE`` / ``OCCUPIED`` / ``UNKNOWN`` (int8).
+    is ``pixel_sum / channels``. Returns ``FREE`` / ``OCCUPIED`` / ``UNKNOWN`` (int8):
+    ``FREE`` exactly where map_server publishes the occupancy value 0, ``UNKNOWN``
+    where it publishes -1, ``OCCUPIED`` for every other value (1..100).
+
+    * ``trinary`` (FORMATS.md §1.3): with ``p = pixel / MAXVAL`` and ``occ = p`` if
+      ``negate`` else ``1 - p``: ``occ > occupied_thresh`` is 100, ``occ <
+      free_thresh`` is 0, the rest -1.
+    * ``scale``: the same, except that the cells between the thresholds get a value
+      in 1..99 (known, and not free: ``OCCUPIED`` here). map_server also makes
+      transparent pixels -1; alpha is ignored here, as in every mode.
+    * ``raw``: the pixel *is* the value, ``round(255 p)`` (Nav2
+      ``nav2_map_server/src/map_io.cpp``, ``MapMode::Raw``): 0..100 is the value,
+      anything above 100 is -1. The thresholds play no part; ``negate`` must be 0
+      (checked by the caller). ROS 1 ``map_server/src/image_loader.cpp`` (``RAW``)
+      stores the channel mean truncated to ``unsigned char`` instead, which differs
+      only for colour pixels whose mean is in [0.5, 1): Nav2's rounding makes them
+      1, occupied here.
     """
     levels = np.arange(maxval * channels + 1, dtype=np.float64) / channels
     p = levels / maxval
-    occ = p if negate else 1.0 - p
     lut = np.full(levels.shape, UNKNOWN, dtype=np.int8)
+    if mode == "raw":
+        value = np.floor(255.0 * p + 0.5)  # std::round on non-negative values
+        lut[value <= 100] = OCCUPIED
+        lut[value == 0] = FREE
+        return lut[pixel_sum]
+    occ = p if negate else 1.0 - p
+    if mode == "scale":
+        lut[:] = OCCUPIED
     lut[occ < free_thresh] = FREE
     lut[occ > occupied_thresh] = OCCUPIED
     return lut[pixel_sum]
 
 
 def _read_image_states(
-    path: Path, *, negate: bool, occupied_thresh: float, free_thresh: float
+    path: Path,
+    *,
+    negate: bool,
+    occupied_thresh: float,
+    free_thresh: float,
+    mode: str = "trinary",
 ) -> npt.NDArray[np.int8]:
     if path.suffix.lower() in (".pgm", ".pnm"):
         pixels, maxval = _read_pgm_with_maxval(path)
@@ -412,6 +441,7 @@ def _read_image_states(
         negate=negate,
         occupied_thresh=occupied_thresh,
         free_thresh=free_thresh,
+        mode=mode,
     )
 
 
@@ -458,15 +488,35 @@ def _shift_origin(
 # --------------------------------------------------------------------------- ROS YAML
 
 
+_NUMERIC_TEXT = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+def _yaml_float(value: object) -> float | None:
+    """A finite YAML number as a float, or ``None``.
+
+    Strings that spell a decimal number count too: YAML 1.1 (PyYAML) reads
+    ``5e-2`` or ``1.0e5`` as strings (its floats need a dot and a signed exponent),
+    while ROS (yaml-cpp's ``as<double>()``) reads them as numbers.
+    """
+    if isinstance(value, str):
+        text = value.strip()
+        if len(text) > 64 or not _NUMERIC_TEXT.fullmatch(text):
+            return None
+        number = float(text)
+        return number if math.isfinite(number) else None
+    return float(value) if _is_finite_number(value) else None
+
+
 def _yaml_number(path: Path, doc: Mapping[str, object], key: str, default: float | None) -> float:
     if key not in doc:
         if default is None:
             raise MapFileError(path, f"YAML has no {key!r} field")
         return default
     value = doc[key]
-    if not _is_finite_number(value):
+    number = _yaml_float(value)
+    if number is None:
         raise MapFileError(path, f"{key!r} must be a number, got {_describe(value)}")
-    return float(value)
+    return number
 
 
 def _resolve_image(yaml_path: Path, image: str) -> Path:
@@ -512,18 +562,17 @@ def _load_ros(path: Path) -> GridMap:
     if resolution <= 0:
         raise MapFileError(path, f"'resolution' must be positive, got {resolution}")
     origin_raw = doc.get("origin", [0.0, 0.0, 0.0])
-    if (
-        not isinstance(origin_raw, list)
-        or len(origin_raw) not in (2, 3)
-        or not all(_is_finite_number(v) for v in origin_raw)
-    ):
+    origin_values = [_yaml_float(v) for v in origin_raw] if isinstance(origin_raw, list) else [None]
+    if len(origin_values) not in (2, 3) or any(v is None for v in origin_values):
         raise MapFileError(path, "'origin' must be a list of 2 or 3 numbers [x, y, yaw]")
-    origin_file = [float(v) for v in origin_raw] + [0.0] * (3 - len(origin_raw))
+    origin_file = [float(v) for v in origin_values if v is not None]
+    origin_file += [0.0] * (3 - len(origin_file))
     negate_raw = doc.get("negate", 0)
+    negate_value = None if isinstance(negate_raw, bool) else _yaml_float(negate_raw)
     if isinstance(negate_raw, bool):
         negate = negate_raw
-    elif isinstance(negate_raw, int) and negate_raw in (0, 1):
-        negate = bool(negate_raw)
+    elif negate_value in (0.0, 1.0):
+        negate = bool(negate_value)
     else:
         raise MapFileError(path, f"'negate' must be 0 or 1, got {_describe(negate_raw)}")
     occupied_thresh = _yaml_number(path, doc, "occupied_thresh", DEFAULT_OCCUPIED_THRESH)
@@ -536,9 +585,16 @@ def _load_ros(path: Path) -> GridMap:
             path, f"'free_thresh' {free_thresh} is greater than 'occupied_thresh' {occupied_thresh}"
         )
     mode = doc.get("mode", "trinary")
-    if mode not in _ROS_MODES:
+    if not isinstance(mode, str) or mode not in _ROS_MODES:
         raise MapFileError(
             path, f"'mode' must be one of {', '.join(_ROS_MODES)}, got {_describe(mode)}"
+        )
+    if mode == "raw" and negate:
+        raise MapFileError(
+            path,
+            "'negate: 1' with 'mode: raw' is read differently by ROS 1 map_server (which "
+            "inverts the pixels first) and Nav2 (which ignores negate in raw mode); store "
+            "the occupancy values themselves (0 free, 100 occupied) and set negate: 0",
         )
 
     try:
@@ -550,7 +606,11 @@ def _load_ros(path: Path) -> GridMap:
             path, f"cannot access image {_describe(image)}: {_one_line(exc)}"
         ) from exc
     states = _read_image_states(
-        image_path, negate=negate, occupied_thresh=occupied_thresh, free_thresh=free_thresh
+        image_path,
+        negate=negate,
+        occupied_thresh=occupied_thresh,
+        free_thresh=free_thresh,
+        mode=mode,
     )
     occupied, crop, border = _crop_and_close(image_path, states)
     row0, col0, row1, col1 = crop
@@ -805,11 +865,15 @@ def load_map(
     ``.pgm``, ``.png``, ``.bmp`` (bare image: negate 0, thresholds 0.65 / 0.196,
     no resolution), ``.map`` (MovingAI) and ``.json`` (HouseExpo polygon).
 
-    ROS images use the trinary rule of FORMATS.md §1.3 on ``p = pixel / MAXVAL``
-    (colour: mean of the colour channels, alpha ignored); cells that come out
-    unknown are occupied. ``mode: scale`` and ``mode: raw`` are accepted and
-    classified with the same trinary rule, since ground truth only needs
-    free / not free.
+    ROS images are read as ``map_server`` reads them, on ``p = pixel / MAXVAL``
+    (colour: mean of the colour channels, alpha ignored), and a cell is free
+    exactly where map_server would publish the occupancy value 0; every other
+    cell (100, 1..99, unknown) is occupied. ``mode: trinary`` (the default) and
+    ``mode: scale`` apply ``negate`` and the two thresholds (FORMATS.md §1.3);
+    ``mode: raw`` takes the pixel as the value itself (0 free, 1..100 occupied,
+    above 100 unknown; Nav2's rule) and refuses ``negate: 1``, on which ROS 1 and
+    Nav2 disagree. Numeric fields may be written as strings such as ``5e-2``
+    (valid YAML numbers for ROS; strings for YAML 1.1).
 
     Args:
         path: the map file.
@@ -894,13 +958,9 @@ def downsample(grid_map: GridMap, factor: int) -> GridMap:
     if factor == 1:
         return grid_map
     occupied = np.asarray(grid_map.occupied, dtype=bool)
-    height, width = occupied.shape
-    coarse_h, coarse_w = -(-height // factor), -(-width // factor)
-    padded = np.ones((coarse_h * factor, coarse_w * factor), dtype=bool)
-    padded[:height, :width] = occupied
-    coarse: BoolGrid = np.asarray(
-        padded.reshape(coarse_h, factor, coarse_w, factor).any(axis=(1, 3))
-    )
+    height = occupied.shape[0]
+    coarse_h = -(-height // factor)
+    coarse: BoolGrid = _pool_any(occupied, factor)
     meta = dict(grid_map.meta)
     previous = meta.get("downsample_factor", 1)
     meta["downsample_factor"] = (previous if isinstance(previous, int) else 1) * factor
@@ -914,6 +974,23 @@ def downsample(grid_map: GridMap, factor: int) -> GridMap:
         resolution_m=None if resolution is None else resolution * factor,
         meta=meta,
     )
+
+
+def _pool_any(occupied: BoolGrid, factor: int) -> BoolGrid:
+    """``factor x factor`` blocks pooled with ``any``; partial blocks at the bottom and
+    right count as occupied (as if padded with walls).
+
+    Only the full blocks are reshaped (views of the input), so whatever the factor,
+    no array larger than the input is allocated.
+    """
+    height, width = occupied.shape
+    full_h, full_w = height // factor, width // factor
+    coarse = np.ones((-(-height // factor), -(-width // factor)), dtype=bool)
+    if full_h and full_w:
+        block = occupied[: full_h * factor, : full_w * factor]
+        rows = block.reshape(full_h, factor, full_w * factor).any(axis=1)
+        coarse[:full_h, :full_w] = rows.reshape(full_h, full_w, factor).any(axis=2)
+    return coarse
 
 
 def resample_to_cell_size(grid_map: GridMap, cell_size_m: float) -> GridMap:

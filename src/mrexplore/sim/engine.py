@@ -180,7 +180,9 @@ class Simulation:
         get_strategy(scenario.strategy)  # fail early on an unknown id
         self.scenario = scenario
         self.streams = make_streams(scenario.seed, scenario.robots)
-        self.world: World = build_world(scenario, self.streams.starts)
+        self.world: World = build_world(
+            scenario, self.streams.starts, record_beliefs=record_beliefs
+        )
         self.truth = self.world.grid.occupied
         self.truth_state = np.where(self.truth, OCCUPIED, FREE).astype(np.int8)
         shape = self.world.grid.shape

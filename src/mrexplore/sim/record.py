@@ -178,7 +178,8 @@ def load_trace(path: str | Path) -> dict[str, np.ndarray]:
     Traces written before :data:`OPTIONAL_TRACE_ARRAYS` existed simply lack those
     keys; nothing is invented for them.
     """
-    with np.load(Path(path), allow_pickle=False) as data:
+    # Our own file handle: np.load leaves its own open when the file is not a zip.
+    with open(Path(path), "rb") as handle, np.load(handle, allow_pickle=False) as data:
         return {name: data[name] for name in data.files}
 
 
@@ -320,6 +321,7 @@ class RunRecord:
         mp4: bool = False,
         belief_panels: bool = False,
         max_frames: int | None = None,
+        replace: bool = False,
     ) -> dict[str, Path]:
         """Write ``result.json``, ``trace.npz``, ``final.png`` (and ``run.gif``, ``run.mp4``).
 
@@ -327,7 +329,27 @@ class RunRecord:
         targets, header; one panel per robot's own belief with ``belief_panels``,
         which needs ``robot_first_known``); ``max_frames`` defaults to 300. An MP4
         needs ``ffmpeg`` on ``PATH``.
+
+        By default the files are written into ``out_dir`` (created if needed),
+        overwriting files of the same names and leaving any others. With
+        ``replace`` the run is written into a staging folder first and then
+        replaces ``out_dir`` whole (:func:`mrexplore.rundir.staged_dir`): no file
+        of an earlier run stays beside the new ones, and an error or a crash
+        while writing leaves ``out_dir`` as it was.
         """
+        if replace:
+            from mrexplore.rundir import staged_dir
+
+            with staged_dir(out_dir) as stage:
+                staged = self.save(
+                    stage,
+                    gif=gif,
+                    png=png,
+                    mp4=mp4,
+                    belief_panels=belief_panels,
+                    max_frames=max_frames,
+                )
+            return {name: Path(out_dir) / path.name for name, path in staged.items()}
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         written = {"result": out / "result.json", "trace": out / "trace.npz"}

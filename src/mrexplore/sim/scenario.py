@@ -9,6 +9,7 @@ into underscores, and they are the keys of ``result.json``.
 from __future__ import annotations
 
 import math
+import numbers
 import re
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -18,6 +19,9 @@ from mrexplore.errors import ScenarioError
 Cell = tuple[int, int]
 
 START_MODES = ("together", "separate")
+MAX_ROBOTS = 10_000
+"""Largest team :meth:`Scenario.validate` accepts (every robot holds a belief of the whole
+map; the map's free cells bound the team again when the world is built)."""
 SENSING_MODES = ("moving", "arrival")
 
 _LENGTH = re.compile(r"^\s*(-?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(m|cells?)?\s*$")
@@ -30,28 +34,33 @@ class Scenario:
     Attributes:
         map: a generator id (``office``, ``maze``, ...) or a map file path.
         size: ``(width, height)`` in cells for generators; ``None`` = generator default.
-        map_seed: seed of the map generator; ``None`` = ``seed``.
+            Refused with a map file (its size is the file's).
+        map_seed: seed of the map generator (an integer >= 0); ``None`` = ``seed``.
         cell_size: resample a file map to this many metres per cell (coarser only).
-        robots: team size.
+            Refused with a generator (use ``size``).
+        robots: team size, 1 to :data:`MAX_ROBOTS`.
         strategy: strategy registry id.
         params: strategy parameters (``--set key=value``).
         sensor_range: sensor radius in cells, or a string such as ``"2.5m"`` in
             metres (needs a map with a resolution).
         speed: cells of path per tick.
-        seed: master seed; the map, start cells, communication and every robot get
-            independent streams split from it.
+        seed: master seed (an integer >= 0, as :class:`numpy.random.SeedSequence` takes);
+            the map, start cells, communication and every robot get independent streams
+            split from it.
         max_ticks: hard limit on the run's length; ``None`` = 20 x explorable cells /
             speed (at least 1000), enough for every baseline on every bundled map.
         start: ``"together"`` (default: adjacent cells in the largest free region),
             ``"separate"`` (random cells of that region) or a list of ``(row, col)``.
         sensing: ``"moving"`` (sense every tick) or ``"arrival"`` (only when not
             travelling, Sheng et al. §2.1).
-        comm_range: communication range in cells (or ``"20m"``); ``inf`` = unlimited.
+        comm_range: communication range in cells (or ``"20m"``); ``inf`` = unlimited. A
+            finite range longer than the map links every pair too, but strategies that
+            plan with the range see the number given.
         comm_los: walls on the straight line between two robots block their link.
         bandwidth: bytes each robot may transmit per tick (``inf`` = unlimited).
         latency: ticks a message takes over one hop (at least 1).
         loss: probability that one reception of one hop is lost.
-        fail: robots that fail, as ``(robot, tick)`` pairs.
+        fail: robots that fail, as ``(robot, tick)`` pairs, at most one per robot.
         failure_rate: probability per tick that each live robot fails.
         sharing: map-sharing mechanism id; ``None`` = the strategy's default (``full``
             for most, ``polygon`` for ``meier-polygon``).
@@ -93,8 +102,29 @@ class Scenario:
 
     def validate(self) -> None:
         """Check every field that can be checked without the map."""
-        if not isinstance(self.robots, int) or self.robots <= 0:
-            raise ScenarioError(f"--robots {self.robots}: must be a positive integer")
+        from mrexplore.grid.generators import GENERATORS
+
+        if not _is_int(self.robots) or not 1 <= self.robots <= MAX_ROBOTS:
+            raise ScenarioError(
+                f"--robots {self.robots}: must be an integer in [1, {MAX_ROBOTS}] (team size)"
+            )
+        for option, seed in (("--seed", self.seed), ("--map-seed", self.map_seed)):
+            if seed is not None and not (_is_int(seed) and seed >= 0):
+                raise ScenarioError(
+                    f"{option} {seed}: must be an integer >= 0 (numpy's SeedSequence takes "
+                    "no negative seeds)"
+                )
+        generator = self.map in GENERATORS
+        if self.size is not None and not generator:
+            raise ScenarioError(
+                f"--size {self.size[0]}x{self.size[1]}: applies to map generators only; "
+                f"{self.map!r} is a map file, whose size is the file's (--cell-size resamples it)"
+            )
+        if self.cell_size is not None and generator:
+            raise ScenarioError(
+                f"--cell-size {self.cell_size}: applies to map files only; {self.map!r} is a "
+                "generator, sized in cells with --size"
+            )
         if self.size is not None:
             width, height = self.size
             if width <= 0 or height <= 0:
@@ -113,8 +143,12 @@ class Scenario:
             raise ScenarioError(
                 f"--start {self.start}: choose together, separate, or cells 'R,C;R,C'"
             )
-        if self.cell_size is not None and self.cell_size <= 0:
-            raise ScenarioError(f"--cell-size {self.cell_size}: must be positive (metres)")
+        if self.cell_size is not None and not (
+            math.isfinite(self.cell_size) and self.cell_size > 0
+        ):
+            raise ScenarioError(
+                f"--cell-size {self.cell_size}: must be a finite number > 0 (metres per cell)"
+            )
         for name in ("patience", "idle_ticks"):
             if getattr(self, name) <= 0:
                 raise ScenarioError(f"--{name.replace('_', '-')}: must be positive")
@@ -129,6 +163,7 @@ class Scenario:
             raise ScenarioError(f"--loss {self.loss}: must be a probability in [0, 1]")
         if not 0.0 <= self.failure_rate <= 1.0:
             raise ScenarioError(f"--failure-rate {self.failure_rate}: must be in [0, 1]")
+        failing: dict[int, int] = {}
         for robot, tick in self.fail:
             if not 0 <= robot < self.robots:
                 raise ScenarioError(
@@ -136,6 +171,12 @@ class Scenario:
                 )
             if tick < 1:
                 raise ScenarioError(f"--fail {robot}@{tick}: the tick must be >= 1")
+            if robot in failing:
+                raise ScenarioError(
+                    f"--fail {robot}@{tick}: robot {robot} already fails at tick "
+                    f"{failing[robot]}; a robot fails once (one --fail per robot)"
+                )
+            failing[robot] = tick
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready dict under the CLI's option names."""
@@ -146,6 +187,11 @@ class Scenario:
             data["start"] = [list(cell) for cell in self.start]
         data["fail"] = [f"{robot}@{tick}" for robot, tick in self.fail]
         return data
+
+
+def _is_int(value: object) -> bool:
+    """Whether ``value`` is an integer, numpy's included (``True`` and ``False`` are not)."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
 
 
 def parse_length(value: float | str, option: str) -> tuple[float, bool]:
@@ -170,6 +216,20 @@ def parse_length(value: float | str, option: str) -> tuple[float, bool]:
     if not math.isfinite(amount) or amount <= 0:
         raise ScenarioError(f"{option} {value}: must be positive")
     return amount, in_metres
+
+
+def parse_switch(text: str, option: str) -> bool:
+    """Parse an on/off value: ``true``/``false``, ``yes``/``no``, ``on``/``off``, ``1``/``0``.
+
+    >>> parse_switch("Yes", "--comm los")
+    True
+    """
+    lowered = text.strip().lower()
+    if lowered in {"1", "true", "yes", "on"}:
+        return True
+    if lowered in {"0", "false", "no", "off"}:
+        return False
+    raise ScenarioError(f"{option}={text}: expected true or false (also yes/no, on/off, 1/0)")
 
 
 def parse_size(text: str) -> tuple[int, int]:

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,9 @@ from mrexplore.grid import (
     load_map,
 )
 from mrexplore.grid.catalogue import CATALOGUE, resolve_map_name, user_maps
+from mrexplore.grid.generators import MAX_GENERATED_SIDE, MIN_GENERATED_SIDE
+from mrexplore.grid.io import resample_to_cell_size
+from mrexplore.sim import budget
 from mrexplore.sim.scenario import Cell, Scenario, parse_length
 
 _MAP_SUFFIXES = {".yaml", ".yml", ".pgm", ".png", ".bmp", ".map", ".json"}
@@ -66,14 +70,184 @@ def resolve_map(name: str) -> Path | None:
     )
 
 
-def load_scenario_map(scenario: Scenario) -> GridMap:
-    """Generate or load the scenario's map."""
+def load_scenario_map(scenario: Scenario, *, record_beliefs: bool | None = None) -> GridMap:
+    """Generate or load the scenario's map, refusing a run that cannot fit in memory.
+
+    The memory a run needs (:func:`mrexplore.sim.budget.estimate_run_bytes`) is
+    checked before the map is generated (from ``--size``), and for a file map
+    before it is pooled to ``--cell-size`` (from the file's size and the pooling
+    factor; the file itself is bounded by :data:`mrexplore.grid.io.MAX_CELLS`).
+    ``record_beliefs`` is the :class:`~mrexplore.sim.engine.Simulation` option of
+    that name (it adds 4 bytes per robot and cell).
+
+    Raises:
+        ScenarioError: the run would need more memory than is available; or
+            ``--cell-size`` leaves the map without a free cell, or with fewer free
+            cells (in its largest free region) than robots.
+    """
     path = resolve_map(scenario.map)
     if path is None:
-        width, height = scenario.size if scenario.size is not None else (None, None)
+        info = GENERATORS[scenario.map]
+        width, height = scenario.size if scenario.size is not None else info.default_size
+        if all(MIN_GENERATED_SIDE <= side <= MAX_GENERATED_SIDE for side in (width, height)):
+            # generate_map refuses other sizes itself, with a better message
+            inner = max(width - 2, 1) * max(height - 2, 1)
+            _check_memory(
+                scenario,
+                (height, width),
+                inner,
+                None,
+                record_beliefs,
+                f"--size {width}x{height}"
+                if scenario.size is not None
+                else f"--map {scenario.map} at its default size {width}x{height}",
+                "use a smaller --size or fewer robots",
+            )
         map_seed = scenario.seed if scenario.map_seed is None else scenario.map_seed
-        return generate_map(scenario.map, width, height, seed=map_seed)
-    return load_map(path, cell_size_m=scenario.cell_size)
+        given_width, given_height = scenario.size if scenario.size is not None else (None, None)
+        return generate_map(scenario.map, given_width, given_height, seed=map_seed)
+    grid = load_map(path)
+    if scenario.cell_size is not None:
+        if grid.resolution_m is None:  # a unitless map takes the cell size as resolution
+            return _checked_file_map(
+                scenario, replace(grid, resolution_m=float(scenario.cell_size)), record_beliefs
+            )
+        grid = _pooled(scenario, grid, record_beliefs)
+        return _checked_file_map(scenario, grid, record_beliefs, pooled=True)
+    return _checked_file_map(scenario, grid, record_beliefs)
+
+
+def _sensor_range_cells(scenario: Scenario, resolution_m: float | None) -> float | None:
+    """The sensor radius in cells, or ``None`` when it cannot be told yet."""
+    try:
+        amount, in_metres = parse_length(scenario.sensor_range, "--sensor-range")
+    except ScenarioError:
+        return None
+    if not in_metres:
+        return amount
+    return None if resolution_m is None else amount / resolution_m
+
+
+def _check_memory(
+    scenario: Scenario,
+    shape: tuple[int, int],
+    free_cells: int,
+    resolution_m: float | None,
+    record_beliefs: bool | None,
+    what: str,
+    advice: str,
+) -> None:
+    """:func:`~mrexplore.sim.budget.check_run_memory` for a map of ``shape`` cells."""
+    from mrexplore.errors import MrexploreInputError
+    from mrexplore.sim.record import BELIEF_CELLS_AUTO
+    from mrexplore.strategies.registry import get_strategy
+
+    cells = shape[0] * shape[1]
+    sharing = scenario.sharing
+    if sharing is None:
+        try:
+            sharing = get_strategy(scenario.strategy).default_sharing
+        except MrexploreInputError:  # reported by the caller, with its own message
+            sharing = "full"
+    if record_beliefs is None:
+        record_beliefs = scenario.robots * cells <= BELIEF_CELLS_AUTO
+    ticks = budget.estimate_ticks(
+        free_cells,
+        scenario.robots,
+        sensor_range_cells=_sensor_range_cells(scenario, resolution_m),
+        speed=scenario.speed,
+        coverage_threshold=scenario.coverage_threshold,
+        max_ticks=scenario.max_ticks,
+    )
+    estimate = budget.estimate_run_bytes(
+        shape,
+        scenario.robots,
+        strategy=scenario.strategy,
+        sharing=sharing,
+        record_beliefs=record_beliefs,
+        ticks=ticks,
+    )
+    budget.check_run_memory(what, estimate, scenario.robots, advice)
+
+
+def _map_label(grid: GridMap, resolution_m: float | None) -> str:
+    at = "" if resolution_m is None else f" at {resolution_m:g} m per cell"
+    return f"the map {grid.name}{at}"
+
+
+def _pooled(scenario: Scenario, grid: GridMap, record_beliefs: bool | None) -> GridMap:
+    """``grid`` pooled to ``--cell-size``, after checking the pooled map's size and memory."""
+    assert scenario.cell_size is not None and grid.resolution_m is not None
+    cell_size, resolution = float(scenario.cell_size), grid.resolution_m
+    option = f"--cell-size {scenario.cell_size:g}"
+    if cell_size < resolution * (1 - 1e-6):
+        raise ScenarioError(
+            f"{option}: finer than the resolution {resolution:g} m of the map {grid.name}; "
+            "only coarser cells are supported"
+        )
+    factor = max(1, round(cell_size / resolution))
+    height, width = grid.shape
+    shape = (-(-height // factor), -(-width // factor))
+    if min(shape) < 3:  # only the occupied outer ring is left: no room for a free cell
+        largest = math.ceil(min(height, width) / 2) - 1  # the largest factor leaving 3 cells
+        raise ScenarioError(
+            f"{option}: the map {grid.name} is {width * resolution:g} m x "
+            f"{height * resolution:g} m, so {factor * resolution:g} m cells leave it "
+            f"{shape[1]}x{shape[0]} cells, all of them walls; use a cell size below "
+            f"{(largest + 0.5) * resolution:g} m"
+        )
+    free_fine = int(np.count_nonzero(~grid.occupied))
+    _check_memory(
+        scenario,
+        shape,
+        max(1, math.ceil(free_fine / (factor * factor))),
+        factor * resolution,
+        record_beliefs,
+        f"{option} on the map {grid.name} ({shape[1]}x{shape[0]} cells)",
+        "use a larger --cell-size or fewer robots",
+    )
+    return resample_to_cell_size(grid, cell_size)
+
+
+def _checked_file_map(
+    scenario: Scenario, grid: GridMap, record_beliefs: bool | None, *, pooled: bool = False
+) -> GridMap:
+    """``grid``, after checking that it fits in memory and, if pooled, has room to start."""
+    height, width = grid.shape
+    if not pooled:
+        resolution = grid.resolution_m
+        cells = (
+            f" ({width}x{height} cells)"
+            if resolution is None
+            else (f" ({width}x{height} cells of {resolution:g} m)")
+        )
+        _check_memory(
+            scenario,
+            grid.shape,
+            int(np.count_nonzero(~grid.occupied)),
+            resolution,
+            record_beliefs,
+            f"--map {scenario.map}{cells}",
+            "use a smaller map, a larger --cell-size or fewer robots",
+        )
+        return grid
+    option = f"--cell-size {scenario.cell_size:g}"
+    label = _map_label(grid, grid.resolution_m)
+    if grid.occupied.all():
+        size = f"{grid.resolution_m:g} m"
+        raise ScenarioError(
+            f"{option}: {label} has no free cell (every {size} cell holds a wall); "
+            "use a smaller cell size"
+        )
+    if isinstance(scenario.start, str):
+        region = int(np.count_nonzero(largest_free_component(grid.occupied)))
+        if region < scenario.robots:
+            raise ScenarioError(
+                f"{option}: {label} has only {region} free cell"
+                f"{'' if region == 1 else 's'} in its largest free region, fewer than the "
+                f"{scenario.robots} robots; use a smaller cell size or fewer robots"
+            )
+    return grid
 
 
 def cells_from_length(value: float | str, grid: GridMap, option: str) -> float:
@@ -139,14 +313,28 @@ def _nearest_free_cells(region: npt.NDArray[np.bool_], seed: Cell, count: int) -
     return tuple(order)
 
 
-def build_world(scenario: Scenario, starts_rng: np.random.Generator) -> World:
-    """Load the map, convert ranges to cells and place the robots."""
+def build_world(
+    scenario: Scenario, starts_rng: np.random.Generator, *, record_beliefs: bool | None = None
+) -> World:
+    """Load the map, convert ranges to cells and place the robots.
+
+    ``record_beliefs`` (as :class:`~mrexplore.sim.engine.Simulation` takes it) only
+    enters the memory check of :func:`load_scenario_map`.
+    """
     scenario.validate()
-    grid = load_scenario_map(scenario)
+    grid = load_scenario_map(scenario, record_beliefs=record_beliefs)
     sensor_range = cells_from_length(scenario.sensor_range, grid, "--sensor-range")
     if sensor_range < 1:
         raise ScenarioError(
             f"--sensor-range {scenario.sensor_range}: is {sensor_range:.2f} cells; need >= 1"
+        )
+    height, width = grid.occupied.shape
+    widest = math.ceil(math.hypot(height - 1, width - 1) + 1.0)  # a disk covering the map
+    if sensor_range > widest:
+        raise ScenarioError(
+            f"--sensor-range {scenario.sensor_range}: is {sensor_range:g} cells, beyond the "
+            f"{width}x{height} map; must be in [1, {widest}] cells (a larger sensor sees "
+            "nothing more)"
         )
     starts = choose_starts(scenario, grid.occupied, starts_rng)
     explorable = free_component_of(grid.occupied, list(starts))

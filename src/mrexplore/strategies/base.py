@@ -33,15 +33,95 @@ Path = npt.NDArray[np.int32]
 
 @dataclass(frozen=True)
 class Param:
-    """One strategy parameter: default, unit, meaning and the paper's symbol."""
+    """One strategy parameter: default, unit, meaning, the paper's symbol and valid range.
+
+    The range is declared with keywords: ``low`` and ``high`` bound numbers
+    (inclusive unless ``low_open`` / ``high_open``), ``finite=False`` lets a float
+    be infinite (within the bounds; NaN is never valid), ``choices`` lists the
+    values of a text parameter. :meth:`convert` refuses anything outside.
+
+    >>> Param(1.0, low=0).describe()
+    'a finite number >= 0'
+    >>> Param(0.5, low=0, high=1, low_open=True).describe()
+    'a finite number in (0, 1]'
+    >>> Param(0.0, low=0, finite=False).describe()
+    'a number >= 0 or inf'
+    >>> Param(2, low=1).describe()
+    'an integer >= 1'
+    """
 
     default: Any
     unit: str = ""
     help: str = ""
     symbol: str = ""
+    low: float | None = field(default=None, kw_only=True)
+    high: float | None = field(default=None, kw_only=True)
+    low_open: bool = field(default=False, kw_only=True)
+    high_open: bool = field(default=False, kw_only=True)
+    finite: bool = field(default=True, kw_only=True)
+    choices: tuple[str, ...] = field(default=(), kw_only=True)
 
-    def convert(self, name: str, value: Any) -> Any:
-        """Convert a value (possibly a ``--set`` string) to the default's type."""
+    def describe(self) -> str:
+        """The valid values in words: ``'an integer >= 0'``, ``'one of grid, rrt'``, ..."""
+        kind = type(self.default)
+        if kind is bool:
+            return "true or false"
+        if kind is str:
+            return f"one of {', '.join(self.choices)}" if self.choices else "text"
+        noun = "an integer" if kind is int else "a finite number" if self.finite else "a number"
+        low, high = _bound(self.low), _bound(self.high)
+        if self.low is not None and self.high is not None:
+            opening = "(" if self.low_open else "["
+            closing = ")" if self.high_open else "]"
+            bounds = f" in {opening}{low}, {high}{closing}"
+        elif self.low is not None:
+            bounds = f" {'>' if self.low_open else '>='} {low}"
+        elif self.high is not None:
+            bounds = f" {'<' if self.high_open else '<='} {high}"
+        else:
+            bounds = ""
+        infinite = " or inf" if kind is float and not self.finite and self.high is None else ""
+        return noun + bounds + infinite
+
+    def accepts(self, value: Any) -> bool:
+        """Whether ``value`` (already of the default's type) lies in the declared range."""
+        kind = type(self.default)
+        if kind is bool:
+            return isinstance(value, bool)
+        if kind is str:
+            return isinstance(value, str) and (not self.choices or value in self.choices)
+        number = value if isinstance(value, int) else float(value)
+        if isinstance(number, float) and (
+            math.isnan(number) or (self.finite and math.isinf(number))
+        ):
+            return False
+        if self.low is not None and (number < self.low or (self.low_open and number == self.low)):
+            return False
+        return self.high is None or not (
+            number > self.high or (self.high_open and number == self.high)
+        )
+
+    def convert(self, name: str, value: Any, option: str = "--set") -> Any:
+        """Convert a value (possibly a ``--set`` string) to the default's type and check
+        it against the declared range.
+
+        Raises:
+            ScenarioError: the value does not convert, or lies outside the range; the
+                message names ``option name=value``, the valid range and the meaning.
+        """
+        converted = self._to_kind(value)
+        if converted is None:
+            raise ScenarioError(
+                f"{option} {name}={value}: expected {self.describe()} ({self.help or name})"
+            )
+        if not self.accepts(converted):
+            raise ScenarioError(
+                f"{option} {name}={value}: must be {self.describe()} ({self.help or name})"
+            )
+        return converted
+
+    def _to_kind(self, value: Any) -> Any:
+        """``value`` as the default's type, or ``None`` if it does not convert."""
         kind = type(self.default)
         if isinstance(value, kind) and not (kind is int and isinstance(value, bool)):
             return value
@@ -53,24 +133,30 @@ class Param:
                         return True
                     if lowered in {"0", "false", "no", "off"}:
                         return False
-                    raise ValueError(value)
+                    return None
                 return bool(value)
             if kind is int:
+                if isinstance(value, str):
+                    try:
+                        return int(value)
+                    except ValueError:
+                        pass
                 as_float = float(value)
-                if not as_float.is_integer():
-                    raise ValueError(value)
-                return int(as_float)
+                return int(as_float) if as_float.is_integer() else None
             if kind is float:
                 return float(value)
             return kind(value)
-        except (TypeError, ValueError):
-            raise ScenarioError(
-                f"--set {name}={value}: expected a {kind.__name__} ({self.help or name})"
-            ) from None
+        except (TypeError, ValueError, OverflowError):
+            return None
+
+
+def _bound(value: float | None) -> str:
+    """A bound as the user would type it: ``0``, ``0.5``, ``inf``."""
+    return "" if value is None else f"{value:g}"
 
 
 REPLAN_PARAMS: dict[str, Param] = {
-    "replan_every": Param(0, "ticks", "also re-plan every k ticks (0 = never)"),
+    "replan_every": Param(0, "ticks", "also re-plan every k ticks (0 = never)", low=0),
     "replan_on_new_info": Param(False, "", "re-plan whenever the belief gained new cells"),
     "replan_on_target_explored": Param(
         True, "", "re-plan when the goal is no longer a frontier cell"
@@ -155,7 +241,7 @@ class Strategy(ABC):
 
 
 def resolve_params(cls: type[Strategy], given: Mapping[str, Any]) -> dict[str, Any]:
-    """Defaults of ``cls.params`` overridden by ``given``, type-checked."""
+    """Defaults of ``cls.params`` overridden by ``given``, converted and range-checked."""
     unknown = sorted(set(given) - set(cls.params))
     if unknown:
         raise ScenarioError(

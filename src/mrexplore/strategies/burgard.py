@@ -28,6 +28,10 @@ name                           symbol      default  unit   meaning
                                                            finite V over the targets (see notes)
 ``request_timeout``            -           5        ticks  resend a goal request if no
                                                            assignment came back
+``coordinator_timeout``        -           0        ticks  plan alone after waiting this long
+                                                           for a goal; 0 = 3 x request_timeout
+``block_limit``                -           2        -      give up a target after this many
+                                                           blocks on it in a row; 0 = never
 ``replan_*``                   -                           see :data:`REPLAN_PARAMS`
 =============================  ==========  =======  =====  ======================================
 
@@ -47,13 +51,24 @@ Interpretations (where the sources are silent):
   which answers with an ``assign`` message (target: 6 bytes + header). The
   coordinator plans for itself without messages. Each message takes one tick,
   so a non-coordinator robot waits two ticks for a new goal.
+* Unreliable communication (ours; the papers assume every message arrives): a
+  robot that has needed a goal for ``coordinator_timeout`` ticks without an
+  assignment it can follow runs the method for a team of one (its own belief,
+  itself only, no goals of others: :func:`assign_greedy` with one robot) and
+  goes on asking; an assignment that arrives later replaces its goal. The
+  coordinator never waits for its team. With lossless links an answer takes two
+  ticks, so the rule does not fire.
+* Blocked targets (ours): a target on which a robot was blocked ``block_limit``
+  times in a row (e.g. a failed robot stands on it) has an infinite cost for that
+  robot until it next arrives at a target; a robot left with no target at all
+  forgets these and tries them again. See :mod:`mrexplore.strategies.fallback`.
 
 Messages: ``status`` (robot -> coordinator), ``assign`` (coordinator -> robot).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -72,6 +87,7 @@ from mrexplore.strategies.base import (
     RobotView,
     passable,
 )
+from mrexplore.strategies.fallback import BlockedTargets, CoordinatorWatch, coordinator_timeout
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,11 +134,14 @@ def assign_greedy(
     beta: float,
     max_range: float,
     normalize_cost: bool,
+    unreachable: Mapping[int, Iterable[Cell]] | None = None,
 ) -> dict[int, Cell]:
     """Burgard's sequential assignment of frontier targets to ``robots``.
 
     ``held_goals`` are goals of robots not being re-assigned; they discount the
-    utilities first. Returns a goal for every robot that can reach a target.
+    utilities first. ``unreachable[i]`` are targets robot ``i`` cannot reach
+    whatever its map says (cost infinite). Returns a goal for every robot that
+    can reach a target.
     """
     rows, cols = np.nonzero(frontier)
     utility = np.ones(rows.size, dtype=np.float64)
@@ -133,6 +152,8 @@ def assign_greedy(
         dist = distance_field(belief_passable, positions[robot], targets=frontier)
         cost = dist[rows, cols]
         cost[(rows == positions[robot][0]) & (cols == positions[robot][1])] = np.inf
+        for cell in (unreachable or {}).get(robot, ()):
+            cost[(rows == cell[0]) & (cols == cell[1])] = np.inf
         if normalize_cost:
             finite = cost[np.isfinite(cost)]
             if finite.size and finite.max() > 0:
@@ -165,10 +186,21 @@ class Burgard(FrontierStrategy):
     summary = "Burgard et al. 2005: utility discounting, central greedy assignment"
     citation = "W. Burgard et al., Coordinated multi-robot exploration, IEEE T-RO 21(3), 2005"
     params: ClassVar[Mapping[str, Param]] = {
-        "beta": Param(1.0, "", "weight of travel cost against utility", "beta"),
-        "max_range": Param(0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range"),
+        "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
+        "max_range": Param(
+            0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range", low=0
+        ),
         "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
-        "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks"),
+        "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks", low=1),
+        "coordinator_timeout": Param(
+            0,
+            "ticks",
+            "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
+            low=0,
+        ),
+        "block_limit": Param(
+            2, "", "give up a target after this many blocks in a row; 0 = never", low=0
+        ),
         **REPLAN_PARAMS,
     }
 
@@ -180,8 +212,22 @@ class Burgard(FrontierStrategy):
         self.requests: set[int] = set()
         # Member state: when the last request went out.
         self.requested_at = -1
+        # Our rules for lossy links and blocked targets (mrexplore.strategies.fallback).
+        self.watch = CoordinatorWatch()
+        self.blocked_targets = BlockedTargets(int(self.p["block_limit"]))
 
     def decide(self, view: RobotView) -> Decision:
+        self.blocked_targets.observe(view)
+        decision = self._decide(view)
+        self.blocked_targets.decided(view, decision)
+        return decision
+
+    def _coordinator_timeout(self) -> int:
+        return coordinator_timeout(
+            int(self.p["coordinator_timeout"]), int(self.p["request_timeout"])
+        )
+
+    def _decide(self, view: RobotView) -> Decision:
         coordinator = min(view.subnetwork)
         assignment: Cell | None = None
         for message in view.inbox:
@@ -197,17 +243,27 @@ class Burgard(FrontierStrategy):
 
         needs_goal = self.needs_plan(view)
         if self.robot_id == coordinator:
+            self.watch.stop()
             return self._coordinate(view, needs_goal)
         decision = Decision()
         if assignment is not None:
             decision = self._follow(view, assignment)
             if decision.goal is not None:
                 self.requested_at = -1
+                self.watch.stop()
                 return decision
             needs_goal = True
-        if needs_goal and (
-            self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]
-        ):
+        if not needs_goal:
+            self.watch.stop()
+            return decision
+        self.watch.wait(view.tick)
+        if self.watch.expired(view.tick, self._coordinator_timeout()):
+            own = self._plan_alone(view)
+            self.watch.acted_alone(view.tick, own.goal is not None)
+            if own.goal is not None:
+                self.requested_at = -1
+                return own
+        if self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]:
             self.requested_at = view.tick
             status = StatusPayload(self.robot_id, view.position, True)
             decision.messages.append(
@@ -217,7 +273,7 @@ class Burgard(FrontierStrategy):
 
     def _follow(self, view: RobotView, goal: Cell) -> Decision:
         """Adopt an assigned goal, planning the path on this robot's own belief."""
-        if goal == view.position:
+        if goal == view.position or not self.blocked_targets.allows(goal):
             return Decision()
         only_goal = np.zeros(view.belief.shape, dtype=bool)
         only_goal[goal] = True
@@ -226,6 +282,27 @@ class Burgard(FrontierStrategy):
             return Decision()
         self.last_plan_tick = view.tick
         return Decision(goal=goal, path=extract_path(dist, goal))
+
+    def _plan_alone(self, view: RobotView) -> Decision:
+        """The method for a team of one: this robot, its own belief, no other goals."""
+        frontier = frontier_mask(view.belief)
+        while True:
+            assigned = assign_greedy(
+                [self.robot_id],
+                {self.robot_id: view.position},
+                {},
+                passable(view.belief),
+                frontier,
+                beta=float(self.p["beta"]),
+                max_range=float(self.p["max_range"]) or view.sensor_range,
+                normalize_cost=bool(self.p["normalize_cost"]),
+                unreachable={self.robot_id: self.blocked_targets.excluded},
+            )
+            goal = assigned.get(self.robot_id)
+            if goal is not None:
+                return self._follow(view, goal)
+            if not self.blocked_targets.forget():
+                return Decision()
 
     def _coordinate(self, view: RobotView, needs_goal: bool) -> Decision:
         """Coordinator: assign goals to every robot that asked for one (and itself)."""
@@ -252,6 +329,7 @@ class Burgard(FrontierStrategy):
             beta=float(self.p["beta"]),
             max_range=max_range,
             normalize_cost=bool(self.p["normalize_cost"]),
+            unreachable={self.robot_id: self.blocked_targets.excluded},
         )
         decision = Decision()
         for robot, goal in assigned.items():
@@ -266,6 +344,7 @@ class Burgard(FrontierStrategy):
                     Message(ASSIGN, self.robot_id, robot, fixed_size(TARGET_BYTES), payload)
                 )
         if self.robot_id in self.requests:  # nothing reachable for the coordinator
+            self.blocked_targets.forget()  # try the targets it gave up on again
             self.requests.discard(self.robot_id)
             decision.idle = decision.goal is None
         self.last_plan_tick = view.tick

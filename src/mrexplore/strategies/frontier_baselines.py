@@ -49,7 +49,7 @@ from mrexplore.strategies.base import (
 )
 
 _FRONTIER_PARAMS: dict[str, Param] = {
-    "min_frontier_size": Param(1, "cells", "ignore frontier clusters smaller than this"),
+    "min_frontier_size": Param(1, "cells", "ignore frontier clusters smaller than this", low=1),
     **REPLAN_PARAMS,
 }
 

@@ -71,6 +71,10 @@ name                           symbol  default  unit   meaning
                                                        hops + 1
 ``request_timeout``            -       0        ticks  a robot re-sends its request when no goal
                                                        came back; 0 = 2 x round_timeout + 2
+``coordinator_timeout``        -       0        ticks  a robot plans alone after waiting this
+                                                       long for a goal; 0 = 3 x request_timeout
+``block_limit``                -       2        -      give up a target after this many blocks
+                                                       on it in a row; 0 = never
 ``replan_*``                   -                       see :data:`REPLAN_PARAMS`
 =============================  ======  =======  =====  =========================================
 
@@ -137,6 +141,19 @@ Interpretations (where the paper is silent or does not fit a grid simulator):
   method degrades into one KME per sub-network). Lost reports only shrink a
   round (robots keep their targets); lost requests are re-sent after
   ``request_timeout``; lost assignments are re-requested the same way.
+* **Unreliable communication** (ours; the paper assumes every message arrives).
+  A robot that has needed a target for ``coordinator_timeout`` ticks without one
+  it can follow runs KME for a team of one: :func:`kme_round` on its own belief
+  with itself only (K = 1: one region, the unknown space; eq. (6) to its
+  contour), without the targets of others. It goes on asking; an ``assign`` that
+  arrives later replaces its target. The coordinator waits for reports at most
+  ``round_timeout``. With lossless links an answer comes within one request
+  period, so the rule does not fire.
+* **Blocked targets** (ours). A target on which a robot was blocked
+  ``block_limit`` times in a row (e.g. a failed robot stands on it) is
+  unreachable for that robot (``delta = inf``) until it next arrives at a target;
+  a robot left with no target at all forgets these and tries them again. See
+  :mod:`mrexplore.strategies.fallback`.
 """
 
 from __future__ import annotations
@@ -167,6 +184,7 @@ from mrexplore.strategies.base import (
     RobotView,
     passable,
 )
+from mrexplore.strategies.fallback import BlockedTargets, CoordinatorWatch, coordinator_timeout
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -686,11 +704,14 @@ def kme_round(
     max_iterations: int,
     taken: Iterable[Cell] = (),
     fm_order: str = "nearest",
+    unreachable: Mapping[int, Iterable[Cell]] | None = None,
 ) -> KmePlan:
     """Steps 4-10 of §IV.D for the robots in ``positions`` on one belief map.
 
     ``taken`` are targets held by robots outside the round (they count for rho2).
     ``v <= 0`` means ``v = l``. ``fm_order`` is one of :data:`FM_ORDERS`.
+    ``unreachable[r]`` are cells robot ``r`` cannot reach whatever the map says
+    (``delta = inf`` there).
     """
     robots = sorted(positions)
     plan = KmePlan(centroids=previous_centroids)
@@ -709,6 +730,8 @@ def kme_round(
     deltas = [distance_field(free, positions[r], targets=frontier) for r in robots]
     for delta, robot in zip(deltas, robots, strict=True):
         delta[positions[robot]] = math.inf  # a robot's own cell is no target
+        for cell in (unreachable or {}).get(robot, ()):
+            delta[cell] = math.inf
     distances = robot_region_distances(
         [positions[r] for r in robots], deltas, labels, frontier, occupied, k
     )
@@ -785,13 +808,32 @@ class Kme(FrontierStrategy):
         "optimization strategy (§IV, eqs. 1-7)"
     )
     params: ClassVar[Mapping[str, Param]] = {
-        "v": Param(0.0, "cells", "penalty rho2 for a frontier chosen by another robot; 0 = l", "v"),
-        "fm_spacing": Param(0.0, "cells", "least spacing of the frontiers in FM; 0 = sensor range"),
-        "fm_order": Param("nearest", "", "greedy FM order: nearest | clusters | raster"),
-        "max_points": Param(3000, "cells", "unknown cells K-Means is run on (random subsample)"),
-        "kmeans_iterations": Param(20, "", "most Lloyd iterations of K-Means per round"),
-        "round_timeout": Param(0, "ticks", "decide with the reports at hand after this; 0 = auto"),
-        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto"),
+        "v": Param(
+            0.0, "cells", "penalty rho2 for a frontier chosen by another robot; 0 = l", "v", low=0
+        ),
+        "fm_spacing": Param(
+            0.0, "cells", "least spacing of the frontiers in FM; 0 = sensor range", low=0
+        ),
+        "fm_order": Param(
+            "nearest", "", "greedy FM order: nearest | clusters | raster", choices=FM_ORDERS
+        ),
+        "max_points": Param(
+            3000, "cells", "unknown cells K-Means is run on (random subsample)", low=1
+        ),
+        "kmeans_iterations": Param(20, "", "most Lloyd iterations of K-Means per round", low=1),
+        "round_timeout": Param(
+            0, "ticks", "decide with the reports at hand after this; 0 = auto", low=0
+        ),
+        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
+        "coordinator_timeout": Param(
+            0,
+            "ticks",
+            "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
+            low=0,
+        ),
+        "block_limit": Param(
+            2, "", "give up a target after this many blocks in a row; 0 = never", low=0
+        ),
         **REPLAN_PARAMS,
     }
 
@@ -812,6 +854,10 @@ class Kme(FrontierStrategy):
         # Member state.
         self.requested_at = -1
         self.replied_at = -1
+        # Our rules for lossy links and blocked targets (mrexplore.strategies.fallback).
+        self.watch = CoordinatorWatch()
+        self.blocked_targets = BlockedTargets(int(self.p["block_limit"]))
+        self.alone_centroids: FloatArray | None = None
 
     # ------------------------------------------------------------ timing
     def _round_timeout(self, view: RobotView, coordinator: int) -> int:
@@ -826,8 +872,19 @@ class Kme(FrontierStrategy):
             return given
         return 2 * self._round_timeout(view, coordinator) + 2
 
+    def _coordinator_timeout(self, view: RobotView, coordinator: int) -> int:
+        return coordinator_timeout(
+            int(self.p["coordinator_timeout"]), self._request_timeout(view, coordinator)
+        )
+
     # ------------------------------------------------------------ decide
     def decide(self, view: RobotView) -> Decision:
+        self.blocked_targets.observe(view)
+        decision = self._decide(view)
+        self.blocked_targets.decided(view, decision)
+        return decision
+
+    def _decide(self, view: RobotView) -> Decision:
         coordinator = min(view.subnetwork)
         is_coordinator = coordinator == self.robot_id
         assignment: Cell | None = None
@@ -843,6 +900,7 @@ class Kme(FrontierStrategy):
                     assignment = payload.goal
         needs_goal = self.needs_plan(view)
         if is_coordinator:
+            self.watch.stop()
             return self._coordinate(view, needs_goal)
 
         decision = Decision()
@@ -854,6 +912,17 @@ class Kme(FrontierStrategy):
                 needs_goal = False
             elif assignment != view.position:
                 needs_goal = True  # cannot reach it on my own map
+        if not needs_goal:
+            self.watch.stop()
+        else:
+            self.watch.wait(view.tick)
+            if self.watch.expired(view.tick, self._coordinator_timeout(view, coordinator)):
+                own = self._plan_alone(view)
+                self.watch.acted_alone(view.tick, own.goal is not None)
+                if own.goal is not None:
+                    self.requested_at = -1
+                    decision = own
+                    needs_goal = False
         request = needs_goal and (
             self.requested_at < 0
             or view.tick - self.requested_at >= self._request_timeout(view, coordinator)
@@ -881,7 +950,7 @@ class Kme(FrontierStrategy):
 
     def _follow(self, view: RobotView, goal: Cell) -> Decision:
         """Adopt a target, planning the path on this robot's own belief."""
-        if goal == view.position:
+        if goal == view.position or not self.blocked_targets.allows(goal):
             return Decision()
         only_goal = np.zeros(view.belief.shape, dtype=bool)
         only_goal[goal] = True
@@ -890,6 +959,39 @@ class Kme(FrontierStrategy):
             return Decision()
         self.last_plan_tick = view.tick
         return Decision(goal=goal, path=extract_path(dist, goal))
+
+    def _plan_alone(self, view: RobotView) -> Decision:
+        """KME for a team of one: this robot, its own belief, no targets of others.
+
+        The round draws from the robot's random stream (K-Means) only when the robot
+        can reach a frontier cell, so an attempt that finds nothing changes nothing.
+        """
+        frontier = frontier_mask(view.belief)
+        dist = distance_field(passable(view.belief), view.position, targets=frontier)
+        dist[view.position] = math.inf
+        reachable = frontier & np.isfinite(dist)
+        if not reachable.any():
+            return Decision()
+        if self.blocked_targets.excluded:
+            rows, cols = np.nonzero(reachable)
+            cells = {(int(r), int(c)) for r, c in zip(rows, cols, strict=True)}
+            if cells <= self.blocked_targets.excluded:
+                self.blocked_targets.forget()  # nothing else to go to: try them again
+        plan = kme_round(
+            view.belief,
+            {self.robot_id: view.position},
+            view.rng,
+            self.alone_centroids,
+            fm_spacing=float(self.p["fm_spacing"]) or view.sensor_range,
+            v=float(self.p["v"]),
+            max_points=int(self.p["max_points"]),
+            max_iterations=int(self.p["kmeans_iterations"]),
+            fm_order=str(self.p["fm_order"]),
+            unreachable={self.robot_id: self.blocked_targets.excluded},
+        )
+        self.alone_centroids = plan.centroids
+        goal = plan.targets.get(self.robot_id)
+        return Decision() if goal is None else self._follow(view, goal)
 
     def _coordinate(self, view: RobotView, needs_goal: bool) -> Decision:
         """Coordinator: open rounds, collect positions, decide when all reported."""
@@ -936,6 +1038,7 @@ class Kme(FrontierStrategy):
             max_iterations=int(self.p["kmeans_iterations"]),
             taken=outside,
             fm_order=str(self.p["fm_order"]),
+            unreachable={self.robot_id: self.blocked_targets.excluded},
         )
         self.centroids = plan.centroids
         self.rounds += 1
@@ -959,6 +1062,7 @@ class Kme(FrontierStrategy):
                 )
         if self.robot_id in self.requesters and decision.goal is None:
             decision.idle = True  # nothing reachable for the coordinator itself
+            self.blocked_targets.forget()  # try the targets it gave up on again
         self.requesters.clear()
         self.round_since = self.round_opened = -1
         return decision

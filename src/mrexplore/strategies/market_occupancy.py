@@ -324,20 +324,32 @@ class MarketOccupancy(FrontierStrategy):
         "(§III, eqs. 1-8, Algorithm 1); frontiers: H. Umari, S. Mukhopadhyay, IROS 2017"
     )
     params: ClassVar[Mapping[str, Param]] = {
-        "lambda_u": Param(0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u"),
-        "lambda_f": Param(0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f"),
-        "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r"),
-        "r_f": Param(0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f"),
-        "frontier_detector": Param("grid", "", "frontier points: grid | rrt"),
-        "rrt_eta": Param(0.0, "cells", "RRT growth step; 0 = sensor range", "eta"),
-        "rrt_samples": Param(20, "samples/tick", "RRT samples per tree per tick"),
-        "rrt_vertex_spacing": Param(
-            1.0, "cells", "a free RRT edge shorter than this adds no vertex"
+        "lambda_u": Param(
+            0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u", low=0
         ),
-        "rrt_burst": Param(50, "batches", "extra RRT batches when a goal is needed and no point"),
-        "rrt_cluster_radius": Param(0.0, "cells", "merge RRT points closer; 0 = sensor range/2"),
-        "round_timeout": Param(0, "ticks", "decide with the rows at hand after this; 0 = auto"),
-        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto"),
+        "lambda_f": Param(
+            0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f", low=0
+        ),
+        "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r", low=0),
+        "r_f": Param(
+            0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
+        ),
+        "frontier_detector": Param("grid", "", "frontier points: grid | rrt", choices=DETECTORS),
+        "rrt_eta": Param(0.0, "cells", "RRT growth step; 0 = sensor range", "eta", low=0),
+        "rrt_samples": Param(20, "samples/tick", "RRT samples per tree per tick", low=1),
+        "rrt_vertex_spacing": Param(
+            1.0, "cells", "a free RRT edge shorter than this adds no vertex", low=0
+        ),
+        "rrt_burst": Param(
+            50, "batches", "extra RRT batches when a goal is needed and no point", low=0
+        ),
+        "rrt_cluster_radius": Param(
+            0.0, "cells", "merge RRT points closer; 0 = sensor range/2", low=0
+        ),
+        "round_timeout": Param(
+            0, "ticks", "decide with the rows at hand after this; 0 = auto", low=0
+        ),
+        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
         "event_based": Param(
             True, "", "rounds open on events (goal reached); false: every replan_every ticks"
         ),
@@ -349,11 +361,6 @@ class MarketOccupancy(FrontierStrategy):
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if self.p["frontier_detector"] not in DETECTORS:
-            raise ScenarioError(
-                f"--set frontier_detector={self.p['frontier_detector']}: "
-                f"choose one of {', '.join(DETECTORS)}"
-            )
         if not self.p["event_based"] and int(self.p["replan_every"]) <= 0:
             raise ScenarioError(
                 "--set event_based=false: time-triggered rounds need a period, "

@@ -72,8 +72,8 @@ class MeierPolygon(FrontierStrategy):
     citation = "D. Meier, C. Stachniss, W. Burgard, ECMR 2005, §4 and Algorithm 1"
     default_sharing = "polygon"
     params: ClassVar[Mapping[str, Param]] = {
-        "beta": Param(1.0, "", "weight of travel cost against utility", "beta"),
-        "max_range": Param(0.0, "cells", "radius of P(d); 0 = sensor range", "max_range"),
+        "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
+        "max_range": Param(0.0, "cells", "radius of P(d); 0 = sensor range", "max_range", low=0),
         "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
         "respect_priority": Param(True, "", "only lower ids' targets discount"),
         **REPLAN_PARAMS,

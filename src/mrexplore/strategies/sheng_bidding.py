@@ -148,7 +148,6 @@ from mrexplore.comm.bytes import (
     fixed_size,
 )
 from mrexplore.comm.messages import BID, TARGET, Message
-from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
     disk_offsets,
@@ -426,16 +425,20 @@ class ShengBidding(Strategy):
     )
     default_sharing: ClassVar[str] = "sheng-sync"
     params: ClassVar[Mapping[str, Param]] = {
-        "w1": Param(1.0, "1/cell", "weight of the information gain I_i", "ω1"),
-        "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2"),
-        "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3"),
-        "alpha": Param(0.5, "", "fading factor of eq. (1), in [0, 1]", "α"),
+        "w1": Param(1.0, "1/cell", "weight of the information gain I_i", "ω1", low=0),
+        "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2", low=0),
+        "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3", low=0),
+        "alpha": Param(0.5, "", "fading factor of eq. (1)", "α", low=0, high=1),
         "comm_range": Param(
-            0.0, "cells", "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)", "r_c"
+            0.0,
+            "cells",
+            "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)",
+            "r_c",
+            low=0,
         ),
-        "bid_time": Param(1, "ticks", "bidding time (at least t_d is used)", "t_bid"),
+        "bid_time": Param(1, "ticks", "bidding time (at least t_d is used)", "t_bid", low=1),
         "declare_timeout": Param(
-            0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d"
+            0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d", low=0
         ),
         "replan_on_target_explored": Param(
             False, "", "stop and bid again when the target is no longer a frontier cell"
@@ -444,17 +447,7 @@ class ShengBidding(Strategy):
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
-        p = self.p
-        if not 0.0 <= p["alpha"] <= 1.0:
-            raise ScenarioError(f"--set alpha={p['alpha']}: the fading factor must be in [0, 1]")
-        if not p["comm_range"] >= 0:
-            raise ScenarioError(
-                f"--set comm_range={p['comm_range']}: must be >= 0 cells (0 = the run's)"
-            )
-        if p["bid_time"] < 1:
-            raise ScenarioError(f"--set bid_time={p['bid_time']}: must be >= 1 tick")
-        if p["declare_timeout"] < 0:
-            raise ScenarioError(f"--set declare_timeout={p['declare_timeout']}: must be >= 0")
+        p = self.p  # ranges checked by the Param declarations
         self.state = SENSING
         # What this robot knows of the others, from messages only.
         self.positions: dict[int, Cell] = {}  # sensing-and-mapping robots

@@ -306,13 +306,13 @@ class Simmons(FrontierStrategy):
     summary = "Simmons et al. 2000: information-gain bids, central greedy assignment"
     citation = "R. Simmons et al., Coordination for multi-robot exploration and mapping, AAAI 2000"
     params: ClassVar[Mapping[str, Param]] = {
-        "cost_weight": Param(4.0, "", "weight w of travel cost in the bid I - w C", "w"),
-        "bids_per_robot": Param(5, "", "bids a robot sends per request", "k"),
+        "cost_weight": Param(4.0, "", "weight w of travel cost in the bid I - w C", "w", low=0),
+        "bids_per_robot": Param(5, "", "bids a robot sends per request", "k", low=1),
         "bid_separation": Param(
-            0.0, "cells", "least distance between two bids of a robot; 0 = sensor range"
+            0.0, "cells", "least distance between two bids of a robot; 0 = sensor range", low=0
         ),
         "line_of_sight": Param(False, "", "count only unknown cells in line of sight"),
-        "request_timeout": Param(5, "ticks", "resend bids after this many ticks"),
+        "request_timeout": Param(5, "ticks", "resend bids after this many ticks", low=1),
         **REPLAN_PARAMS,
     }
 

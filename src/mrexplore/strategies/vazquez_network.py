@@ -196,7 +196,6 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, POSITION_BYTES, TARGET_BYTES, fixed_size
 from mrexplore.comm.messages import TARGET, Message
-from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
     disk_offsets,
@@ -232,6 +231,9 @@ FOLLOW = "follow"  # towards the bridge neighbour on the root side
 APPROACH = "approach"  # achieve-connectivity: towards a bridge neighbour beyond d2
 RETURN = "return"  # disconnected: towards a lost neighbour's last known position
 HOLD = "hold"  # staying put until the next position update
+
+_FOREVER = 2**62
+"""Ticks of a default duration that ``4 d3`` makes endless (an infinite ``d3``)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -407,7 +409,8 @@ def select_behaviour(
     """
     if disconnected:
         return ACHIEVE_CONNECTIVITY
-    threshold = 1.0 / (d2 * d2) if math.isfinite(d2) else 0.0
+    squared = d2 * d2  # 0 for a range of about 1e-160 cells or less: every link is weak
+    threshold = (1.0 / squared if math.isfinite(squared) else 0.0) if squared > 0 else math.inf
     if any(signal_strength(position, other) < threshold for other in bridge_positions):
         return ACHIEVE_CONNECTIVITY
     limit = collision_distance * collision_distance
@@ -575,17 +578,34 @@ class VazquezNetwork(Strategy):
     )
     params: ClassVar[Mapping[str, Param]] = {
         "comm_range": Param(
-            0.0, "cells", "communication range d3; 0 = the run's --comm-range", "d3"
+            0.0,
+            "cells",
+            "communication range d3; 0 = the run's --comm-range, inf = unlimited",
+            "d3",
+            low=0,
+            finite=False,
         ),
-        "d2_fraction": Param(0.9, "", "preventive constraint d2 = d2_fraction x d3", "d2"),
-        "d1_sensor_diameters": Param(1.5, "", "collision constraint d1 in sensor diameters", "d1"),
-        "d1_max_fraction": Param(0.75, "", "cap d1 at this fraction of d2"),
-        "cost_weight": Param(1.0, "", "weight w of travel cost in U - w C", "w"),
+        "d2_fraction": Param(
+            0.9,
+            "",
+            "preventive constraint d2 = d2_fraction x d3",
+            "d2",
+            low=0,
+            high=1,
+            low_open=True,
+        ),
+        "d1_sensor_diameters": Param(
+            1.5, "", "collision constraint d1 in sensor diameters", "d1", low=0
+        ),
+        "d1_max_fraction": Param(0.75, "", "cap d1 at this fraction of d2", low=0, high=1),
+        "cost_weight": Param(1.0, "", "weight w of travel cost in U - w C", "w", low=0),
         "line_of_sight": Param(False, "", "count only unknown cells in line of sight in U"),
-        "position_period": Param(2, "ticks", "broadcast the position every k ticks", "k"),
-        "follow_distance": Param(2.0, "cells", "how close a robot moving towards a neighbour gets"),
+        "position_period": Param(2, "ticks", "broadcast the position every k ticks", "k", low=1),
+        "follow_distance": Param(
+            2.0, "cells", "how close a robot moving towards a neighbour gets", low=0
+        ),
         "reconnect_timeout": Param(
-            0, "ticks", "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)"
+            0, "ticks", "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)", low=0
         ),
         "zone_includes_targets": Param(
             True, "", "keep the zone around bridge neighbours' destinations too"
@@ -595,6 +615,7 @@ class VazquezNetwork(Strategy):
             "ticks",
             "keep a neighbour's comfort zone after its link stops being a bridge or after "
             "reconnecting; 0 = 4 d3 (at least 50)",
+            low=0,
         ),
         "resolve_conflicts": Param(
             True, "", "re-plan when a lower id announces a destination within R of ours"
@@ -604,12 +625,6 @@ class VazquezNetwork(Strategy):
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if int(self.p["position_period"]) < 1:
-            raise ScenarioError("--set position_period: must be at least 1 tick")
-        if not float(self.p["comm_range"]) >= 0:
-            raise ScenarioError(
-                f"--set comm_range={self.p['comm_range']}: must be >= 0 cells (0 = the run's)"
-            )
         # What this robot knows of the others, from messages: (value, tick sent).
         self.positions: dict[int, tuple[Cell, int]] = {}
         self.destinations: dict[int, tuple[Cell, int]] = {}
@@ -656,7 +671,8 @@ class VazquezNetwork(Strategy):
         ticks = int(self.p[name])
         if ticks > 0:
             return ticks
-        return max(50, math.ceil(4 * self._d3(view) / view.speed))
+        travel = 4 * self._d3(view) / view.speed  # inf for a range of about 1e308 cells
+        return max(50, math.ceil(travel)) if math.isfinite(travel) else _FOREVER
 
     def _roles_of(self, view: RobotView) -> NetworkRoles:
         key = (view.subnetwork, view.links)

@@ -426,15 +426,21 @@ class ZlotMarket(Strategy):
         "by a market economy, ICRA 2002"
     )
     params: ClassVar[Mapping[str, Param]] = {
-        "revenue_weight": Param(1.0, "", "revenue per unknown cell, in cells of travel", "w_r"),
-        "goals_per_round": Param(3, "", "goal points drawn per generation"),
-        "goal_spacing": Param(0.0, "cells", "least distance between goals; 0 = sensor range"),
-        "generation_radius": Param(
-            1.0, "cells", "draw goals at most this far (path) beyond the nearest candidate"
+        "revenue_weight": Param(
+            1.0, "", "revenue per unknown cell, in cells of travel", "w_r", low=0
         ),
-        "min_tour": Param(1, "", "generate new goals when the tour is shorter than this"),
-        "auction_ticks": Param(2, "ticks", "auction duration (at least 2 x latency x hops)"),
-        "reauction_every": Param(10, "ticks", "re-auction the least valued goal (0 = never)"),
+        "goals_per_round": Param(3, "", "goal points drawn per generation", low=1),
+        "goal_spacing": Param(
+            0.0, "cells", "least distance between goals; 0 = sensor range", low=0
+        ),
+        "generation_radius": Param(
+            1.0, "cells", "draw goals at most this far (path) beyond the nearest candidate", low=0
+        ),
+        "min_tour": Param(1, "", "generate new goals when the tour is shorter than this", low=1),
+        "auction_ticks": Param(2, "ticks", "auction duration (at least 2 x latency x hops)", low=1),
+        "reauction_every": Param(
+            10, "ticks", "re-auction the least valued goal (0 = never)", low=0
+        ),
         "line_of_sight": Param(False, "", "count only unknown cells in line of sight"),
     }
 

@@ -36,6 +36,7 @@ import base64
 import json
 import math
 import os
+import zipfile
 import zlib
 from collections.abc import Mapping
 from pathlib import Path
@@ -257,6 +258,10 @@ def replay_html(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
     )
 
 
+#: Arrays every trace has (DESIGN: the run contract); the rest are optional.
+REQUIRED_ARRAYS = ("truth", "first_known", "positions")
+
+
 def load_run(run_dir: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[str, Any]]:
     """The trace arrays and ``result.json`` (``{}`` if absent) of a run folder."""
     from mrexplore.sim.record import load_trace
@@ -269,8 +274,16 @@ def load_run(run_dir: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[str,
         raise MrexploreInputError(f"{folder}: no trace.npz (written by mrexplore run --out)")
     try:
         trace = load_trace(trace_path)
-    except (OSError, ValueError) as error:
-        raise MrexploreInputError(f"{trace_path}: not a readable trace ({error})") from None
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as error:
+        # A truncated or foreign file: numpy raises BadZipFile, EOFError, ValueError...
+        raise MrexploreInputError(
+            f"{trace_path}: not a readable trace ({type(error).__name__}: {error})"
+        ) from None
+    missing = [name for name in REQUIRED_ARRAYS if name not in trace]
+    if missing:
+        raise MrexploreInputError(
+            f"{trace_path}: not a trace written by mrexplore run (no {missing[0]!r} array)"
+        )
     result_path = folder / "result.json"
     result: dict[str, Any] = {}
     if result_path.is_file():
@@ -291,5 +304,20 @@ def write_replay(
     """
     trace, result = load_run(run_dir)
     path = Path(out) if out is not None else Path(run_dir) / "replay.html"
-    path.write_text(replay_html(trace, result), encoding="utf-8")
+    write_text_file(path, replay_html(trace, result), "--out")
     return path
+
+
+def write_text_file(path: Path, text: str, option: str) -> None:
+    """Write ``text`` to ``path``; a folder that is missing or not writable is the
+    user's to fix (``MrexploreInputError`` naming ``option``), not a crash."""
+    parent = path.parent
+    if not parent.is_dir():
+        problem = "is not a folder" if parent.exists() else "does not exist"
+        raise MrexploreInputError(f"{option} {path}: the folder {parent} {problem}")
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as error:
+        raise MrexploreInputError(
+            f"{option} {path}: cannot write ({error.strerror or error})"
+        ) from None

@@ -1,0 +1,153 @@
+"""Run folders (``mrexplore run --out DIR``): what holds a run, and replacing one whole.
+
+A folder *holds a run* when any of :data:`RUN_FILES` is in it. ``mrexplore run``
+refuses such a folder, and any other non-empty folder, unless ``--force``; an
+empty or new folder is fine. Whatever the case, the run is first written into a
+fresh staging folder and only moved into place once every file is complete
+(:func:`staged_dir`), so a crash or a failed run never leaves a folder that mixes
+two runs, and never a half-written run in place of an earlier one:
+
+* a new folder: the staging folder is a hidden sibling, renamed to ``DIR``;
+* an existing empty folder: the staging folder is hidden inside it, and its
+  files are moved up (``DIR`` itself stays, with its owner and permissions);
+* a folder to replace (``--force``): the staging folder is a hidden sibling;
+  ``DIR`` is renamed aside (``.DIR.old-*``), the staging folder renamed to
+  ``DIR``, then the old folder deleted. If the process dies between the two
+  renames, the old run is still whole in ``.DIR.old-*``.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import uuid
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from mrexplore.errors import MrexploreInputError
+
+RUN_FILES = ("result.json", "trace.npz", "final.png", "run.gif", "run.mp4", "replay.html")
+"""Files whose presence makes a folder hold a run."""
+
+
+class RunDirError(MrexploreInputError):
+    """An output folder cannot be used for a run (without ``--force``)."""
+
+
+def run_files(folder: str | Path) -> list[str]:
+    """The :data:`RUN_FILES` present in ``folder`` (empty if it is not a folder)."""
+    path = Path(folder)
+    if not path.is_dir():
+        return []
+    return [name for name in RUN_FILES if (path / name).exists()]
+
+
+def _listing(names: list[str], limit: int = 4) -> str:
+    shown = ", ".join(names[:limit])
+    return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
+def check_run_dir(out: str | Path, *, force: bool = False, option: str = "--out") -> None:
+    """Raise :class:`RunDirError` unless a run may be written to ``out``.
+
+    Without ``force``: ``out`` must be new or an empty folder. With ``force`` an
+    existing folder will be replaced whole, except one that holds the current
+    folder or the home folder.
+    """
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise RunDirError(f"{option} {out}: exists and is not a folder")
+    if not path.exists():
+        return
+    present = run_files(path)
+    others = sorted(p.name for p in path.iterdir() if p.name not in present)
+    if not force:
+        if present:
+            raise RunDirError(
+                f"{option} {out}: already holds a run ({_listing(present)}); add --force to "
+                "replace the folder whole, or choose another folder"
+            )
+        if others:
+            raise RunDirError(
+                f"{option} {out}: folder is not empty and holds no run ({_listing(others)}); "
+                "add --force to replace it whole (its files are deleted), or choose a new "
+                "or empty folder"
+            )
+        return
+    if not present and not others:
+        return
+    target = Path(os.path.realpath(path))
+    for keep, what in ((Path.cwd(), "the current folder"), (Path.home(), "the home folder")):
+        if keep.resolve().is_relative_to(target):
+            raise RunDirError(
+                f"{option} {out}: is or holds {what}; --force will not replace it, "
+                "choose another folder"
+            )
+    if not os.access(target.parent, os.W_OK):
+        raise RunDirError(
+            f"{option} {out}: --force needs to write in {target.parent}, which is not writable"
+        )
+
+
+def _fsync_tree(folder: Path) -> None:
+    """Flush every file of ``folder`` and the folder itself to disk."""
+    for entry in folder.iterdir():
+        if entry.is_file():
+            with open(entry, "rb") as handle:
+                os.fsync(handle.fileno())
+    _fsync_dir(folder)
+
+
+def _fsync_dir(folder: Path) -> None:
+    try:
+        descriptor = os.open(folder, os.O_RDONLY)
+    except OSError:  # e.g. not supported on this platform
+        return
+    try:
+        os.fsync(descriptor)
+    except OSError:
+        pass
+    finally:
+        os.close(descriptor)
+
+
+@contextmanager
+def staged_dir(out: str | Path) -> Iterator[Path]:
+    """Yield an empty staging folder; on a normal exit its files become ``out``,
+    which is replaced whole if it exists. On an exception the staging folder is
+    deleted and ``out`` is left as it was.
+
+    The caller decides whether ``out`` may be replaced (:func:`check_run_dir`).
+    """
+    target = Path(os.path.realpath(out))
+    tag = uuid.uuid4().hex[:12]
+    inside = target.is_dir() and not any(target.iterdir())
+    if inside:  # an empty folder: keep it (owner, permissions) and fill it
+        stage = target / f".mrexplore-new-{tag}"
+    else:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        stage = target.parent / f".{target.name}.new-{tag}"
+    stage.mkdir()
+    try:
+        yield stage
+        _fsync_tree(stage)
+        if inside:
+            for entry in list(stage.iterdir()):
+                os.replace(entry, target / entry.name)
+            stage.rmdir()
+        elif not target.exists():
+            os.rename(stage, target)
+        else:
+            old = target.parent / f".{target.name}.old-{tag}"
+            os.rename(target, old)
+            try:
+                os.rename(stage, target)
+            except BaseException:
+                os.rename(old, target)
+                raise
+            shutil.rmtree(old, ignore_errors=True)
+        _fsync_dir(target.parent)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
