@@ -179,3 +179,63 @@ def test_a_sharing_parameter_names_the_mechanism_that_takes_it(
     assert main([*RUN, "--sharing", "polygon", "--share", "bogus=2"]) == EXIT_BAD_INPUT
     assert "no sharing mechanism has it" in _error_line(capsys)
     assert main([*RUN, "--sharing", "polygon", "--share", "split_rate=1"]) == 0
+
+
+# ------------------------------------------------------ output below a file (item 4)
+
+
+@pytest.mark.parametrize("command", ["run", "sweep", "reproduce", "report"])
+def test_an_output_folder_below_a_file_is_bad_input(
+    command: str, run_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--out afile/sub`` used to end in FileExistsError / NotADirectoryError, exit 1."""
+    blocker = tmp_path / "afile"
+    blocker.write_text("keep me")
+    out = str(blocker / "sub")
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('[sweep]\nseeds = [1]\n[fixed]\nmap = "office"\nsize = "20x20"\n')
+    results = tmp_path / "results"
+    if command == "report":
+        assert main(["sweep", str(sweep), "--out", str(results), "--no-progress"]) == 0
+        capsys.readouterr()
+    argv = {
+        "run": [*RUN, "--out", out],
+        "sweep": ["sweep", str(sweep), "--out", out, "--no-progress"],
+        "reproduce": ["reproduce", "wu2011", "--quick", "--out", out],
+        "report": ["report", str(results), "--out", out],
+    }[command]
+    assert main(argv) == EXIT_BAD_INPUT
+    assert (
+        _error_line(capsys) == f"mrexplore: error: --out {out}: {blocker} is a file, not a folder"
+    )
+    assert blocker.read_text() == "keep me"
+
+
+# ------------------------------------------------ an engine address (item 8)
+
+
+def _closed_port() -> int:
+    import socket
+
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])  # closed again when the block ends
+
+
+@pytest.mark.parametrize(("engine", "module"), [("ray", "ray"), ("dask", "distributed")])
+def test_an_engine_address_where_nothing_answers_is_one_line(
+    engine: str, module: str, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Ray used to print a log line a second for minutes (22 lines for a proxy that
+    answers); both engines now say it in one line, at once, exit 2."""
+    pytest.importorskip(module)
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('[sweep]\nseeds = [1]\n[fixed]\nmap = "office"\nsize = "20x20"\n')
+    address = f"127.0.0.1:{_closed_port()}"
+    argv = ["sweep", str(sweep), "--out", str(tmp_path / "r"), "--engine", engine]
+    assert main([*argv, "--address", address]) == EXIT_BAD_INPUT
+    err = capfd.readouterr().err
+    assert err == (
+        f"mrexplore: error: --engine {engine} --address {address}: nothing answers there "
+        "(Connection refused)\n"
+    )

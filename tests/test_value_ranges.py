@@ -82,11 +82,61 @@ def test_strategies_that_plan_with_the_range_accept_a_huge_one(
     assert main(argv) == 0, capsys.readouterr().err
 
 
-def test_a_sensor_range_beyond_the_map_is_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
-    """1e5 cells used to allocate disks of 200001^2 cells (MemoryError, exit 1)."""
-    for value in ("1e5", "1e308"):
-        _refused([*RUN, "--sensor-range", value], capsys, f"--sensor-range {value}", "[1, 43]")
-    assert main([*RUN, "--sensor-range", "43"]) == 0
+@pytest.mark.parametrize("strategy", available_strategies())
+def test_a_sensor_range_beyond_the_map_runs(
+    strategy: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """1e5 cells used to allocate disks of 200001^2 cells (MemoryError) and 1e308 to
+    overflow ``range**2`` (OverflowError), exit 1. A sensor wider than the map is valid:
+    it sees the whole map in line of sight."""
+    argv = [*RUN, "--strategy", strategy, "--sensor-range", "1e308", "--max-ticks", "8"]
+    assert main(argv) == 0, capsys.readouterr().err
+
+
+def test_a_sensor_beyond_the_map_sees_what_one_covering_it_sees(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The disk tables are clipped to the map (43 cells cover 30x30): same run."""
+    runs = []
+    for value in ("43", "1e5"):
+        assert main([*RUN, "--json", "--sensor-range", value]) == 0
+        runs.append(json.loads(capsys.readouterr().out))
+    for key in ("ticks", "explored_fraction", "total_distance"):
+        assert runs[0][key] == runs[1][key], key
+
+
+def _edges(param: Param) -> list[int | float]:
+    """The extreme valid values of a numeric parameter (a huge one when unbounded)."""
+    integer = type(param.default) is int
+    values: list[int | float] = []
+    if param.low is not None:
+        step = 1 if integer else 1e-300
+        values.append(param.low + step if param.low_open else param.low)
+    if param.high is not None:
+        values.append(param.high - (1 if integer else 1e-12) if param.high_open else param.high)
+    else:
+        values.append(10**12 if integer else 1e300 if param.finite else math.inf)
+    return [int(v) if integer else float(v) for v in values]
+
+
+@pytest.mark.parametrize("strategy", available_strategies())
+def test_every_parameter_runs_at_the_edges_of_its_range(
+    strategy: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A value the declaration accepts must run: kme ``fm_spacing=1e300``, simmons
+    ``cost_weight=1e300`` and market-occupancy ``lambda_u=1e300`` / ``r_f=1e-300`` used
+    to end in OverflowError, a hang and ValueError (float32 messages turned the huge
+    values into -inf)."""
+    from mrexplore.strategies import get_strategy
+
+    small = ["run", "--map", "office", "--size", "24x24", "--robots", "3", "--max-ticks", "12"]
+    for name, param in get_strategy(strategy).params.items():
+        if type(param.default) not in (int, float):
+            continue
+        for value in _edges(param):
+            argv = [*small, "--strategy", strategy, "--set", f"{name}={value}"]
+            assert main(argv) == 0, (name, value, capsys.readouterr().err)
+            capsys.readouterr()
 
 
 # ------------------------------------------------------------ item 7: strategy parameters

@@ -415,7 +415,9 @@ def _check_out_dir(out: str, *, run: bool = False, force: bool = False) -> None:
     if path.exists() and not path.is_dir():
         raise ScenarioError(f"--out {out}: exists and is not a folder")
     parent = path if path.exists() else next((p for p in path.parents if p.exists()), Path("."))
-    if not os.access(parent, os.W_OK):
+    if not parent.is_dir():
+        raise ScenarioError(f"--out {out}: {parent} is a file, not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
         raise ScenarioError(f"--out {out}: folder {parent} is not writable")
     if run:
         from mrexplore.rundir import check_run_dir
@@ -585,6 +587,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             )
         print(f"{len(sweep)} runs")
         return 0
+    _check_out_dir(args.out)
     try:
         summary = run_sweep(
             sweep,

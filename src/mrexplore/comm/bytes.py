@@ -44,6 +44,9 @@ on, not once per receiver (a radio broadcast reaches every robot in range).
 
 from __future__ import annotations
 
+import numpy as np
+import numpy.typing as npt
+
 HEADER_BYTES = 7
 CELL_UPDATE_BYTES = 5
 POSITION_BYTES = 6
@@ -73,6 +76,21 @@ def cell_updates_size(n_cells: int) -> int:
     57
     """
     return HEADER_BYTES + CELL_UPDATE_BYTES * n_cells
+
+
+def float32_on_wire(values: npt.ArrayLike) -> npt.NDArray[np.float32]:
+    """``values`` as the float32 a message carries them in.
+
+    A finite value beyond float32's range is sent as its largest finite value of that
+    sign, so a huge but valid weight never arrives as an infinity (nor with an
+    overflow warning); infinities and NaN stay what they are.
+
+    >>> float32_on_wire([1.5, -1e300, float("inf")]).tolist()
+    [1.5, -3.4028234663852886e+38, inf]
+    """
+    array = np.asarray(values, dtype=np.float64)
+    top = float(np.finfo(np.float32).max)
+    return np.where(np.isfinite(array), np.clip(array, -top, top), array).astype(np.float32)
 
 
 def fixed_size(payload_bytes: int) -> int:

@@ -83,14 +83,16 @@ def run_sweep(
     todo = [spec for spec in specs if spec.run_id not in done]
     started = time.perf_counter()
     failed = finished = 0
+    context = None
+    if todo:  # before the bar: an engine that cannot start says so in one line
+        context = (
+            nullcontext(engine)
+            if isinstance(engine, Engine)
+            else make_engine(engine, workers, address)
+        )
     bar = _progress(len(specs), len(specs) - len(todo), progress)
     try:
-        if todo:
-            context = (
-                nullcontext(engine)
-                if isinstance(engine, Engine)
-                else make_engine(engine, workers, address)
-            )
+        if context is not None:
             with context as runner:
                 for spec, result in runner.imap_unordered(execute, todo):
                     outcome = result if isinstance(result, RunOutcome) else _lost(spec, result)

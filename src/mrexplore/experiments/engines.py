@@ -40,6 +40,7 @@ import multiprocessing
 import os
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager, nullcontext
 from typing import Any, TypeVar
 
 from mrexplore.errors import MrexploreInputError
@@ -249,10 +250,13 @@ class RayEngine(Engine):
 
             main_thread = threading.current_thread() is threading.main_thread()
             sigterm = signal.getsignal(signal.SIGTERM) if main_thread else None
-            if not address:
+            if address:
+                _check_reachable(address, "--engine ray --address")
+            else:
                 self._reaper = _start_reaper()
             try:
-                ray.init(**options)
+                with _stderr_held() if address else nullcontext():
+                    ray.init(**options)
             except (ConnectionError, RuntimeError, ValueError) as error:
                 self._stop_reaper()
                 raise EngineError(f"--engine ray --address {address}: {error}") from None
@@ -330,6 +334,7 @@ class DaskEngine(Engine):
         self._cluster: Any = None
         try:
             if address:
+                _check_reachable(address, "--engine dask --address")
                 self._client = Client(address, timeout="20s")
                 info = self._client.scheduler_info()
                 threads = sum(w.get("nthreads", 1) for w in info.get("workers", {}).values())
@@ -394,6 +399,57 @@ class DaskEngine(Engine):
         self._client.close(timeout=5)
         if self._cluster is not None:
             self._cluster.close(timeout=5)
+
+
+def _check_reachable(address: str, option: str, seconds: float = 5.0) -> None:
+    """Raise :class:`EngineError` when nothing accepts a TCP connection at ``address``
+    (``host:port``, optionally behind a scheme such as ``ray://``; ``auto`` and other
+    forms are left to the engine). Ray otherwise retries for minutes on a closed port."""
+    import socket
+    from urllib.parse import urlsplit
+
+    netloc = urlsplit(address if "://" in address else f"tcp://{address}").netloc
+    host, _, port = netloc.rpartition(":")
+    if not host or not port.isdigit():
+        return
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=seconds):
+            pass
+    except OSError as error:
+        reason = error.strerror or type(error).__name__
+        raise EngineError(f"{option} {address}: nothing answers there ({reason})") from None
+
+
+@contextmanager
+def _stderr_held() -> Iterator[None]:
+    """Hold what is written to file descriptor 2 while the block runs, then pass it on,
+    unless the block failed: its one-line error then says it all.
+
+    Ray's C++ core logs to the descriptor directly, one line a second while it retries
+    an address where no cluster answers (22 lines before the error it raises). Only
+    for joining a cluster: processes started meanwhile would inherit the held file.
+    """
+    import sys
+    import tempfile
+
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as held:
+        os.dup2(held.fileno(), 2)
+        failed = False
+        try:
+            yield
+        except BaseException:
+            failed = True
+            raise
+        finally:
+            sys.stderr.flush()
+            os.dup2(saved, 2)
+            os.close(saved)
+            if not failed:
+                held.seek(0)
+                sys.stderr.buffer.write(held.read())
+                sys.stderr.flush()
 
 
 def _start_reaper() -> Any:

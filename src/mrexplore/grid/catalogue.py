@@ -44,9 +44,11 @@ __all__ = [
 DATA_DIR = Path(__file__).resolve().parent / "data"
 #: Environment variable naming folders of a user's own maps (``os.pathsep``-separated).
 MAPS_ENV = "MREXPLORE_MAPS"
+#: File extensions :func:`mrexplore.grid.io.load_map` reads (any case).
+MAP_SUFFIXES = (".yaml", ".yml", ".pgm", ".png", ".bmp", ".map", ".json")
 #: File kinds a user map folder is searched for, in this order.
 USER_MAP_SUFFIXES = (".yaml", ".yml", ".map", ".json", ".pgm", ".png")
-_PATH_SUFFIXES = frozenset((*USER_MAP_SUFFIXES, ".bmp"))
+_PATH_SUFFIXES = frozenset(MAP_SUFFIXES)
 
 
 @dataclass(frozen=True)

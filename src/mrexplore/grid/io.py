@@ -52,7 +52,7 @@ import yaml
 from PIL import Image
 
 from mrexplore.errors import MapFileError, ScenarioError
-from mrexplore.grid.catalogue import credit_for_file
+from mrexplore.grid.catalogue import MAP_SUFFIXES, credit_for_file
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BoolGrid, GridMap
 
 __all__ = [
@@ -80,7 +80,6 @@ _PGM_WHITESPACE = frozenset(b" \t\n\r\v\f")
 _MAX_POLYGON_VERTS = 100_000
 _MAX_RASTER_WORK = 20_000_000  # edge/row crossings or outline samples for one polygon
 _ROS_MODES = ("trinary", "scale", "raw")
-_MAP_SUFFIXES = (".yaml", ".yml", ".pgm", ".png", ".bmp", ".map", ".json")
 
 # --------------------------------------------------------------------------- helpers
 
@@ -390,9 +389,9 @@ def _trinary(
     ``FREE`` exactly where map_server publishes the occupancy value 0, ``UNKNOWN``
     where it publishes -1, ``OCCUPIED`` for every other value (1..100).
 
-    * ``trinary`` (FORMATS.md §1.3): with ``p = pixel / MAXVAL`` and ``occ = p`` if
-      ``negate`` else ``1 - p``: ``occ > occupied_thresh`` is 100, ``occ <
-      free_thresh`` is 0, the rest -1.
+    * ``trinary`` (wiki.ros.org/map_server, "Value Interpretation"): with ``p =
+      pixel / MAXVAL`` and ``occ = p`` if ``negate`` else ``1 - p``: ``occ >
+      occupied_thresh`` is 100, ``occ < free_thresh`` is 0, the rest -1.
     * ``scale``: the same, except that the cells between the thresholds get a value
       in 1..99 (known, and not free: ``OCCUPIED`` here). map_server also makes
       transparent pixels -1; alpha is ignored here, as in every mode.
@@ -869,7 +868,7 @@ def load_map(
     (colour: mean of the colour channels, alpha ignored), and a cell is free
     exactly where map_server would publish the occupancy value 0; every other
     cell (100, 1..99, unknown) is occupied. ``mode: trinary`` (the default) and
-    ``mode: scale`` apply ``negate`` and the two thresholds (FORMATS.md §1.3);
+    ``mode: scale`` apply ``negate`` and the two thresholds (map_server's rule);
     ``mode: raw`` takes the pixel as the value itself (0 free, 1..100 occupied,
     above 100 unknown; Nav2's rule) and refuses ``negate: 1``, on which ROS 1 and
     Nav2 disagree. Numeric fields may be written as strings such as ``5e-2``
@@ -919,7 +918,7 @@ def load_map(
         raise MapFileError(
             map_path,
             f"unsupported map format {suffix or '(no extension)'!r}; "
-            f"expected one of {', '.join(_MAP_SUFFIXES)}",
+            f"expected one of {', '.join(MAP_SUFFIXES)}",
         )
     if cell_size_m is None:
         return grid_map

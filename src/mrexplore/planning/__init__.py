@@ -20,13 +20,14 @@ from mrexplore.planning.distance import (
 )
 from mrexplore.planning.frontiers import FrontierCluster, frontier_clusters, frontier_mask
 from mrexplore.planning.gain import information_gain
-from mrexplore.planning.visibility import bresenham_line, disk_offsets, ray_table
+from mrexplore.planning.visibility import bresenham_line, clip_radius, disk_offsets, ray_table
 
 __all__ = [
     "SQRT2",
     "FrontierCluster",
     "UnreachableTargetError",
     "bresenham_line",
+    "clip_radius",
     "disk_offsets",
     "distance_field",
     "extract_path",

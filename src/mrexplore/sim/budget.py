@@ -69,6 +69,14 @@ TICK_BYTES_PER_ROBOT = 54
 TICK_BYTES_PER_ROBOT_PAIR = 40
 #: Packed link flags, one bit per robot pair and tick, in the stacked trace.
 TICK_BITS_PER_ROBOT_PAIR = 1
+#: ``RangeLinks.links``' numpy temporaries per robot pair (``N x N`` float64
+#: differences, squares and sums, and masks: 2 x 42 B), whatever the range.
+PAIR_BYTES = 84
+#: Each *linked* pair as Python objects: a tuple of two ints in the links frozenset,
+#: its copies per sub-network and while the next tick's links are built, and the
+#: temporaries of ``pack_links`` (measured 550 to 650 B per pair with all pairs linked,
+#: 84 of them the arrays above).
+LINKED_PAIR_BYTES = 520
 #: Estimated ticks over the bound of :func:`estimate_ticks` (real runs: 2.7 to 14).
 TICKS_OVER_BOUND = 2
 
@@ -135,6 +143,7 @@ def estimate_run_bytes(
     sharing: str = "full",
     record_beliefs: bool = False,
     ticks: int = 1,
+    linked_share: float = 1.0,
 ) -> MemoryEstimate:
     """Bytes a run of ``n_robots`` on an ``H x W`` grid needs at its peak.
 
@@ -146,7 +155,11 @@ def estimate_run_bytes(
                          + 23 [zlot-market] or 8 [kme] + 1 [polygon])
               + C x 12 [polygon sharing]
               + C x max(26, 150)                          a distance field; metrics
+              + P x (84 + 520 x linked_share)             links, P = N (N - 1) / 2
               + T x (880 + 54 N + 40 N^2 [N >= 2] + N^2 / 16)   per-tick trace
+
+    ``linked_share`` is the share of robot pairs within communication range (1 for
+    an unlimited range).
 
     What each constant counts is in this module's constants (``*_BYTES*``). The
     temporaries of a tick (a distance field) and of the metrics at the end (which
@@ -156,10 +169,13 @@ def estimate_run_bytes(
     flight, and the animations of ``--gif`` / ``--mp4``.
 
     Measured against the peak resident memory (``ru_maxrss``) minus the resident
-    memory before the simulation was built: ``blank`` 3000x3000 with 1 robot for 50
-    ticks: estimate 1.55 GB, measured 1.35 GB; ``blank`` 1000x1000, 4 robots, sensor
-    20, complete in 20144 ticks: estimate 0.24 GB, measured 0.25 GB; ``blank``
-    200x200, 32 robots, 101000 ticks: estimate 4.6 GB, measured 4.4 GB.
+    memory before the simulation was built (estimate / measured, MB): ``blank``
+    3000x3000, 1 robot, 50 ticks: 1544 / 1325; ``blank`` 1000x1000, 4 robots, sensor
+    20, complete in 20144 ticks (estimated 12026): 259 / 251; ``intel``, 8 robots,
+    sensor 40, complete: 161 / 125; ``warehouse``, 32 robots, complete in 13366
+    ticks (estimated 5178): 661 / 835; ``blank`` 100x100, 1000 robots, 2 ticks:
+    494 / 467. The trace of a long run is where it falls short (the tick count is
+    estimated on the low side); the metrics' temporaries, where it is generous.
     """
     height, width = shape
     cells = int(height) * int(width)
@@ -177,9 +193,12 @@ def estimate_run_bytes(
         + (TICK_BYTES_PER_ROBOT_PAIR * n * n if n >= 2 else 0)
         + TICK_BITS_PER_ROBOT_PAIR * n * (n - 1) // 16
     )
+    pairs = n * (n - 1) // 2
+    share = min(max(float(linked_share), 0.0), 1.0)
     return MemoryEstimate(
         map_bytes=cells * (MAP_BYTES_PER_CELL + SHARING_BYTES_PER_CELL.get(sharing, 0)),
-        robot_bytes=cells * n * per_robot,
+        robot_bytes=cells * n * per_robot
+        + math.ceil(pairs * (PAIR_BYTES + LINKED_PAIR_BYTES * share)),
         transient_bytes=cells * max(PLAN_BYTES_PER_CELL, METRICS_BYTES_PER_CELL),
         trace_bytes=int(ticks) * per_tick,
         ticks=int(ticks),

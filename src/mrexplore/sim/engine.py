@@ -514,7 +514,7 @@ class Simulation:
         """
         assert robot.goal is not None
         passable = robot.belief == FREE
-        radius2 = self.world.sensor_range_cells**2
+        radius2 = self.world.sensor_range_cells * self.world.sensor_range_cells
         for other in self.robots:
             if other.id == robot.id:  # a failed robot still blocks its cell
                 continue

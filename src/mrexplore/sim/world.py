@@ -19,13 +19,11 @@ from mrexplore.grid import (
     largest_free_component,
     load_map,
 )
-from mrexplore.grid.catalogue import CATALOGUE, resolve_map_name, user_maps
+from mrexplore.grid.catalogue import CATALOGUE, MAP_SUFFIXES, resolve_map_name, user_maps
 from mrexplore.grid.generators import MAX_GENERATED_SIDE, MIN_GENERATED_SIDE
 from mrexplore.grid.io import resample_to_cell_size
 from mrexplore.sim import budget
 from mrexplore.sim.scenario import Cell, Scenario, parse_length
-
-_MAP_SUFFIXES = {".yaml", ".yml", ".pgm", ".png", ".bmp", ".map", ".json"}
 
 
 @dataclass(frozen=True)
@@ -59,7 +57,7 @@ def resolve_map(name: str) -> Path | None:
     if named is not None:
         return named
     path = Path(name)
-    if path.suffix.lower() in _MAP_SUFFIXES or path.exists():
+    if path.suffix.lower() in MAP_SUFFIXES or path.exists():
         if not path.exists():
             raise MapFileError(path, "no such file")
         return path
@@ -117,10 +115,10 @@ def load_scenario_map(scenario: Scenario, *, record_beliefs: bool | None = None)
     return _checked_file_map(scenario, grid, record_beliefs)
 
 
-def _sensor_range_cells(scenario: Scenario, resolution_m: float | None) -> float | None:
-    """The sensor radius in cells, or ``None`` when it cannot be told yet."""
+def _length_cells(value: float | str, option: str, resolution_m: float | None) -> float | None:
+    """A range in cells, or ``None`` when it cannot be told (yet)."""
     try:
-        amount, in_metres = parse_length(scenario.sensor_range, "--sensor-range")
+        amount, in_metres = parse_length(value, option)
     except ScenarioError:
         return None
     if not in_metres:
@@ -137,11 +135,18 @@ def _check_memory(
     what: str,
     advice: str,
 ) -> None:
-    """:func:`~mrexplore.sim.budget.check_run_memory` for a map of ``shape`` cells."""
+    """:func:`~mrexplore.sim.budget.check_run_memory` for a map of ``shape`` cells.
+
+    ``free_cells`` is the map's number of free cells, or an upper bound on it. A team
+    larger than that is left to the start-cell checks, whose message says so (the
+    memory such a team would need is beside the point).
+    """
     from mrexplore.errors import MrexploreInputError
     from mrexplore.sim.record import BELIEF_CELLS_AUTO
     from mrexplore.strategies.registry import get_strategy
 
+    if scenario.robots > free_cells:
+        return
     cells = shape[0] * shape[1]
     sharing = scenario.sharing
     if sharing is None:
@@ -151,10 +156,16 @@ def _check_memory(
             sharing = "full"
     if record_beliefs is None:
         record_beliefs = scenario.robots * cells <= BELIEF_CELLS_AUTO
+    linked_share = 1.0
+    if not (isinstance(scenario.comm_range, float) and math.isinf(scenario.comm_range)):
+        # robots spread evenly: the share of pairs closer than the range
+        comm_range = _length_cells(scenario.comm_range, "--comm-range", resolution_m)
+        if comm_range is not None:
+            linked_share = min(1.0, math.pi * comm_range * comm_range / max(free_cells, 1))
     ticks = budget.estimate_ticks(
         free_cells,
         scenario.robots,
-        sensor_range_cells=_sensor_range_cells(scenario, resolution_m),
+        sensor_range_cells=_length_cells(scenario.sensor_range, "--sensor-range", resolution_m),
         speed=scenario.speed,
         coverage_threshold=scenario.coverage_threshold,
         max_ticks=scenario.max_ticks,
@@ -166,6 +177,7 @@ def _check_memory(
         sharing=sharing,
         record_beliefs=record_beliefs,
         ticks=ticks,
+        linked_share=linked_share,
     )
     budget.check_run_memory(what, estimate, scenario.robots, advice)
 
@@ -200,7 +212,7 @@ def _pooled(scenario: Scenario, grid: GridMap, record_beliefs: bool | None) -> G
     _check_memory(
         scenario,
         shape,
-        max(1, math.ceil(free_fine / (factor * factor))),
+        free_fine // (factor * factor),  # a coarse free cell holds factor^2 free cells
         factor * resolution,
         record_beliefs,
         f"{option} on the map {grid.name} ({shape[1]}x{shape[0]} cells)",
@@ -327,14 +339,6 @@ def build_world(
     if sensor_range < 1:
         raise ScenarioError(
             f"--sensor-range {scenario.sensor_range}: is {sensor_range:.2f} cells; need >= 1"
-        )
-    height, width = grid.occupied.shape
-    widest = math.ceil(math.hypot(height - 1, width - 1) + 1.0)  # a disk covering the map
-    if sensor_range > widest:
-        raise ScenarioError(
-            f"--sensor-range {scenario.sensor_range}: is {sensor_range:g} cells, beyond the "
-            f"{width}x{height} map; must be in [1, {widest}] cells (a larger sensor sees "
-            "nothing more)"
         )
     starts = choose_starts(scenario, grid.occupied, starts_rng)
     explorable = free_component_of(grid.occupied, list(starts))

@@ -603,7 +603,7 @@ def spaced_subset(rows: IntArray, cols: IntArray, spacing: float) -> IntArray:
         _spaced_kernel(
             np.ascontiguousarray(rows, dtype=np.int64),
             np.ascontiguousarray(cols, dtype=np.int64),
-            float(spacing) ** 2,
+            float(spacing) * float(spacing),  # inf, not OverflowError, past 1e154
         )
     )
 

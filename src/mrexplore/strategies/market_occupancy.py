@@ -152,7 +152,13 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import linear_sum_assignment
 
-from mrexplore.comm.bytes import BROADCAST, FRONTIER_POINT_BYTES, HEADER_BYTES, WEIGHT_BYTES
+from mrexplore.comm.bytes import (
+    BROADCAST,
+    FRONTIER_POINT_BYTES,
+    HEADER_BYTES,
+    WEIGHT_BYTES,
+    float32_on_wire,
+)
 from mrexplore.comm.messages import Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
@@ -268,7 +274,8 @@ def occupancy(
     sigma = r_f / 3.0
     d2 = (points[:, None, 0] - others_arr[None, :, 0]) ** 2
     d2 += (points[:, None, 1] - others_arr[None, :, 1]) ** 2
-    gauss = np.exp(-d2 / (2.0 * sigma * sigma))
+    with np.errstate(over="ignore"):  # (d / sigma)^2 = inf for a tiny sigma: exp -> 0
+        gauss = np.exp(-0.5 * np.square(np.sqrt(d2) / sigma))
     gauss[d2 > r_f * r_f] = 0.0
     return np.asarray(lambda_f * gauss.sum(axis=1))
 
@@ -428,7 +435,7 @@ class MarketOccupancy(FrontierStrategy):
             dist = distance_field(passable(view.belief), view.position, targets=targets)
             reach = dist[points[:, 0], points[:, 1]]
             w = np.where(np.isfinite(reach) & (reach > 0), w, INFEASIBLE)
-        return np.asarray(np.minimum(w, INFEASIBLE), dtype=np.float32)
+        return float32_on_wire(np.minimum(w, INFEASIBLE))
 
     def _weights_message(self, key: RoundKey, row: npt.NDArray[np.float32]) -> Message:
         payload = WeightsPayload(key, self.robot_id, row)

@@ -146,10 +146,12 @@ from mrexplore.comm.bytes import (
     POSITION_BYTES,
     TARGET_BYTES,
     fixed_size,
+    float32_on_wire,
 )
 from mrexplore.comm.messages import BID, TARGET, Message
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
+    clip_radius,
     disk_offsets,
     distance_field,
     extract_path,
@@ -256,7 +258,7 @@ def exclusion_mask(shape: tuple[int, int], centres: Iterable[Cell], radius: floa
     [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
     """
     mask = np.zeros(shape, dtype=bool)
-    offsets = disk_offsets(radius)
+    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
     for row, col in centres:
         rows = offsets[:, 0] + row
         cols = offsets[:, 1] + col
@@ -335,7 +337,7 @@ def compute_bid(
     best = int(np.argmax(g))
     bid = Bid(
         target=(int(rows[best]), int(cols[best])),
-        value=float(np.float32(g[best])),
+        value=float(float32_on_wire(g[best])),
         information=float(gain[best]),
         distance=float(distance[best]),
         nearness=float(lam[best]),

@@ -116,11 +116,12 @@ from typing import ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, TARGET_BYTES, fixed_size
+from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, TARGET_BYTES, fixed_size, float32_on_wire
 from mrexplore.comm.messages import ASSIGN, BID, Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
+    clip_radius,
     disk_offsets,
     distance_field,
     extract_path,
@@ -228,7 +229,7 @@ def disk_mask(
     [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
     """
     mask = np.zeros(shape, dtype=bool)
-    offsets = disk_offsets(radius)
+    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
     for row, col in centres:
         rows = offsets[:, 0] + row
         cols = offsets[:, 1] + col
@@ -345,9 +346,10 @@ class Simmons(FrontierStrategy):
         values = bid_value(gains, dist[rows, cols], float(self.p["cost_weight"]))
         separation = float(self.p["bid_separation"]) or view.sensor_range
         chosen = select_bids(rows, cols, values, int(self.p["bids_per_robot"]), separation)
+        sent = float32_on_wire(values[chosen])
         return tuple(
-            Bid(self.robot_id, (int(rows[i]), int(cols[i])), float(np.float32(values[i])))
-            for i in chosen
+            Bid(self.robot_id, (int(rows[i]), int(cols[i])), float(value))
+            for i, value in zip(chosen, sent, strict=True)
         )
 
     # ------------------------------------------------------------------ tick

@@ -198,6 +198,7 @@ from mrexplore.comm.bytes import BROADCAST, POSITION_BYTES, TARGET_BYTES, fixed_
 from mrexplore.comm.messages import TARGET, Message
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
+    clip_radius,
     disk_offsets,
     distance_field,
     extract_path,
@@ -337,7 +338,7 @@ def exclusion_mask(
     points = np.array(list(centres), dtype=np.int64).reshape(-1, 2)
     if points.shape[0] == 0:
         return None
-    offsets = disk_offsets(radius)
+    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
     cells = (points[:, None, :] + offsets[None, :, :]).reshape(-1, 2)
     inside = (
         (cells[:, 0] >= 0)
@@ -696,7 +697,7 @@ class VazquezNetwork(Strategy):
     def _read_inbox(self, view: RobotView) -> bool:
         """Update positions and destinations; True if a conflict asks for a new plan."""
         conflict = False
-        radius2 = view.sensor_range**2
+        radius2 = view.sensor_range * view.sensor_range
         for message in view.inbox:
             payload = message.payload
             if isinstance(payload, PositionPayload):
@@ -1038,7 +1039,7 @@ class VazquezNetwork(Strategy):
         blocked = frozenset(close)
         if blocked == self.avoided:
             return Decision()
-        ahead = path[index + 1 : index + 1 + math.ceil(d1)]
+        ahead = path[index + 1 : index + 1 + math.ceil(min(d1, len(path)))]
         if not {(int(r), int(c)) for r, c in ahead} & blocked:
             return Decision()
         self.avoided = blocked

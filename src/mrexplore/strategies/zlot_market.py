@@ -131,7 +131,7 @@ from typing import ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BID_BYTES, BROADCAST, TARGET_BYTES, fixed_size
+from mrexplore.comm.bytes import BID_BYTES, BROADCAST, TARGET_BYTES, fixed_size, float32_on_wire
 from mrexplore.comm.messages import BID, Message
 from mrexplore.errors import ScenarioError
 from mrexplore.planning import (
@@ -578,7 +578,7 @@ class ZlotMarket(Strategy):
         closes_at = view.tick + self._auction_duration(view)
         messages = []
         for goal, reserve in zip(goals, reserves, strict=True):
-            reserve = float(np.float32(reserve))
+            reserve = float(float32_on_wire(reserve))
             self.auctions[goal] = OpenAuction(reserve, closes_at)
             payload = AuctionPayload(self.robot_id, goal, reserve)
             messages.append(Message(AUCTION, self.robot_id, BROADCAST, AUCTION_SIZE, payload))
@@ -628,7 +628,7 @@ class ZlotMarket(Strategy):
         if wanted:
             bids = self.bids_for(view, [a.goal for a in wanted], [a.reserve for a in wanted])
             for announcement, value in zip(wanted, bids, strict=True):
-                value = float(np.float32(value))
+                value = float(float32_on_wire(value))
                 if np.isfinite(value) and value > announcement.reserve:
                     payload = BidPayload(self.robot_id, announcement.goal, value)
                     decision.messages.append(
