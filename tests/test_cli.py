@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from mrexplore.checks import check_trace
+from mrexplore.cli import main
 
 
 def mrexplore(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
@@ -176,7 +177,11 @@ BAD_INPUTS = {
 
 
 @pytest.mark.parametrize("case", sorted(BAD_INPUTS))
-def test_bad_input_is_one_line_and_exit_2(case: str, tmp_path: Path) -> None:
+def test_bad_input_is_one_line_and_exit_2(
+    case: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """In process (``cli.main``, as ``python -m mrexplore`` calls it); one case below
+    goes through a real process."""
     _write(tmp_path / "bad.pgm", b"P9\n3 3\n255\n" + bytes(9))
     _write(tmp_path / "short.pgm", b"P5\n10 10\n255\n" + bytes(20))
     _write(
@@ -197,11 +202,21 @@ def test_bad_input_is_one_line_and_exit_2(case: str, tmp_path: Path) -> None:
     (out / "keep.txt").write_text("earlier work")
     if "--out" not in args:
         args = [*args, "--out", str(out)]
-    done = mrexplore("run", *[a.format(tmp=tmp_path) for a in args])
-    assert done.returncode == 2, (done.returncode, done.stderr)
-    lines = done.stderr.strip().splitlines()
-    assert len(lines) == 1, done.stderr
+    try:
+        code = main(["run", *[a.format(tmp=tmp_path) for a in args]])
+    except SystemExit as exit_:  # argparse's own errors exit from the parser
+        code = exit_.code
+    stderr = capsys.readouterr().err
+    assert code == 2, (code, stderr)
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1, stderr
     assert needle in lines[0]
-    assert "Traceback" not in done.stderr
+    assert "Traceback" not in stderr
     assert (out / "keep.txt").read_text() == "earlier work"
     assert not (out / "result.json").exists()
+
+
+def test_bad_input_through_a_real_process_is_one_line(tmp_path: Path) -> None:
+    done = mrexplore("run", "--map", "sheng40", "--robots", "0")
+    assert done.returncode == 2, (done.returncode, done.stderr)
+    assert done.stderr.count("\n") == 1 and "--robots" in done.stderr, done.stderr

@@ -344,7 +344,8 @@ class DaskEngine(Engine):
                     n_workers=self.workers,
                     threads_per_worker=1,
                     processes=True,
-                    dashboard_address=None,
+                    dashboard_address=":0",  # a free port: never "8787 in use" beside another
+                    scheduler_port=0,
                 )
                 self._client = Client(self._cluster)
         except OSError as error:
