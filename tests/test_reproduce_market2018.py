@@ -13,6 +13,7 @@ import pytest
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import market2018 as repro
+from mrexplore.experiments.reproduce.claims import paired
 from mrexplore.experiments.store import Store
 
 FIGURES = ("time.png", "coordination_bytes.png", "bytes_by_type.png")
@@ -49,7 +50,9 @@ def _check_report(out: Path) -> str:
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("market2018-quick")
-    assert main(["reproduce", "market2018", "--quick", "--out", str(out), "--no-progress"]) == 0
+    argv = ["reproduce", "market2018", "--quick", "--out", str(out), "--no-progress"]
+    # one interpretation keeps the suite short (it re-runs the 12 centralised runs)
+    assert main([*argv, "--interpretations", "baseline-replans-on-arrival"]) == 0
     return out
 
 
@@ -64,6 +67,14 @@ def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
         m for store in stores for m in store.query("SELECT map FROM runs").column(0).to_pylist()
     }
     assert maps == {"intel", "aws-small-house", "office"}
+    robustness = text.split("## Robustness to the readings of the paper", 1)[1]
+    assert "| claim | default | baseline-replans-on-arrival | summary |" in robustness
+    for claim in repro.CLAIMS:
+        assert re.search(
+            rf"^\| `{claim.id}` \| .* \| (robust|\*\*fragile\*\*.*) \|$", robustness, re.M
+        )
+    assert (quick_run / "readings" / "baseline-replans-on-arrival" / "intel-centralised").is_dir()
+    assert not (quick_run / "readings" / "baseline-replans-on-arrival" / "intel-rrt").exists()
     arms = text.split("## Arms", 1)[1].split("## Exploration time", 1)[0]
     for arm in repro.ARMS:
         assert f"`{arm}`" in arms
@@ -155,17 +166,17 @@ def test_run_numbers_and_cell_summaries() -> None:
     times = repro.cell_summaries(numbers, "time")[("intel", 2)]
     assert times["centralised"].mean == 110.0
     assert times["decentralised"].mean == 245.0 and times["decentralised"].n == 2
-    difference = repro.paired(
+    difference = paired(
         repro.by_cell(numbers, "time")[("intel", 2)], "decentralised", "centralised"
     )
     assert difference.mean == pytest.approx(((90 - 100) + (400 - 120)) / 2)
 
 
-def test_count_outcome() -> None:
-    assert repro.count_outcome(6, 6) == "reproduced"
-    assert repro.count_outcome(3, 6) == "partly"
-    assert repro.count_outcome(2, 6) == "not reproduced"
-    assert repro.count_outcome(0, 0) == "not reproduced"
+def test_the_claims_read_the_teams_in_the_reports_order() -> None:
+    ids = [claim.id for claim in repro.CLAIMS]
+    assert ids == ["quick", "quick_rrt", "dispersed", "event_data", "event_time", "minimal"]
+    event = next(c for c in repro.CLAIMS if c.id == "event_data")
+    assert (event.second, *event.seconds) == tuple(repro.timer_arm(p) for p in repro.TIMER_PERIODS)
 
 
 def test_map_setups_convert_metres() -> None:

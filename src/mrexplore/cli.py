@@ -310,6 +310,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="worker processes (default: the machine's cores)",
     )
     reproduce.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
+    reproduce.add_argument(
+        "--interpretations",
+        default="all",
+        metavar="all|none|NAME,...",
+        help="alternative readings of the paper to judge the claims under too; each "
+        "re-runs the experiments it changes (default: all)",
+    )
     reproduce.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
@@ -664,6 +671,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         workers=args.workers,
         address=args.address,
         progress=not args.no_progress,
+        interpretations=args.interpretations,
     )
     print(f"report: {report}")
     return 0

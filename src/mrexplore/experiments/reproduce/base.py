@@ -11,15 +11,18 @@ line per claim. :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from mrexplore.experiments.driver import run_sweep
 from mrexplore.experiments.engines import make_engine
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep
+
+if TYPE_CHECKING:
+    from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values
 
 Outcome = Literal["reproduced", "partly", "not reproduced"]
 
@@ -48,6 +51,64 @@ class Reproduction:
     """``quick -> {experiment name: sweep}``."""
     report: Callable[[Mapping[str, Store], Path, bool], Path]
     """``(stores by experiment, out dir, quick) -> path of report.md``."""
+    claims: Sequence[Claim] = ()
+    """The claims judged by :mod:`~mrexplore.experiments.reproduce.claims` rules."""
+    tables: Callable[[Mapping[str, Store], bool], Mapping[str, Values]] | None = None
+    """``(stores by experiment, quick) -> metric -> values`` the claims read."""
+    interpretations: Sequence[Interpretation] = ()
+    """Alternative readings of the paper the claims are also judged under."""
+
+    def interpretation_names(self) -> list[str]:
+        return [i.name for i in self.interpretations]
+
+
+def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Interpretation]:
+    """``all``, ``none`` or comma-separated names of ``reproduction``'s interpretations.
+
+    Raises :class:`~mrexplore.errors.MrexploreInputError` for an unknown name.
+    """
+    from mrexplore.errors import MrexploreInputError
+
+    if chosen == "all":
+        return list(reproduction.interpretations)
+    if chosen == "none":
+        return []
+    known = {i.name: i for i in reproduction.interpretations}
+    names = [n.strip() for n in chosen.split(",") if n.strip()]
+    unknown = [n for n in names if n not in known]
+    if unknown or not names:
+        listing = ", ".join(known) or "none declared"
+        raise MrexploreInputError(
+            f"--interpretations {chosen}: {reproduction.id} has no interpretation "
+            f"{', '.join(unknown) or '(empty)'}; use all, none or some of: {listing}"
+        )
+    return [known[n] for n in names]
+
+
+def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
+    """``sweep`` under ``interpretation``, or ``None`` when it changes none of its runs.
+
+    Its ``set`` overrides go into the fixed strategy parameters (replacing a grid axis
+    of the same parameter). A sweep whose strategies the interpretation only partly
+    applies to is an error of the reproduction's declaration.
+    """
+    fixed_strategy = sweep.fixed.get("strategy")
+    strategies = [fixed_strategy] if fixed_strategy else list(sweep.grid.get("strategy", []))
+    hit = [s for s in strategies if interpretation.applies_to(str(s))]
+    if not hit:
+        return None
+    if len(hit) != len(strategies):
+        raise ValueError(
+            f"interpretation {interpretation.name} applies to some strategies of sweep "
+            f"{sweep.name} only; split the sweep by strategy"
+        )
+    grid: dict[str, Any] = dict(sweep.grid)
+    if "set" in grid:
+        grid["set"] = {k: v for k, v in grid["set"].items() if k not in interpretation.set}
+        if not grid["set"]:
+            del grid["set"]
+    fixed = {**sweep.fixed, "set": {**sweep.fixed.get("set", {}), **interpretation.set}}
+    return replace(sweep, fixed=fixed, grid=grid, name=f"{sweep.name}@{interpretation.name}")
 
 
 def reproduce(
@@ -59,18 +120,43 @@ def reproduce(
     workers: int | None = None,
     address: str | None = None,
     progress: bool = True,
+    interpretations: str = "all",
 ) -> Path:
-    """Run every experiment of ``reproduction`` into ``out`` and write its report."""
+    """Run every experiment of ``reproduction`` into ``out`` and write its report.
+
+    Each selected interpretation (:func:`select_interpretations`) re-runs the
+    experiments it changes into ``out/readings/<name>/<experiment>``; the claims are
+    judged under every reading and the report ends with the robustness section.
+    """
     out = Path(out)
+    chosen = select_interpretations(reproduction, interpretations)
     out.mkdir(parents=True, exist_ok=True)
     stores: dict[str, Store] = {}
+    readings: dict[str, dict[str, Store]] = {}
     sweeps = reproduction.sweeps(quick)
     with make_engine(engine, workers, address) as runner:  # one pool for every sweep
         for name, sweep in sweeps.items():
             folder = out / name
             run_sweep(sweep, folder, engine=runner, resume=True, progress=progress)
             stores[name] = Store(folder)
-    return reproduction.report(stores, out, quick)
+        for interpretation in chosen:
+            reading = readings.setdefault(interpretation.name, dict(stores))
+            for name, sweep in sweeps.items():
+                changed = interpret(sweep, interpretation)
+                if changed is None:
+                    continue
+                folder = out / "readings" / interpretation.name / name
+                run_sweep(changed, folder, engine=runner, resume=True, progress=progress)
+                reading[name] = Store(folder)
+    path = reproduction.report(stores, out, quick)
+    if reproduction.claims and reproduction.tables is not None:
+        from mrexplore.experiments.reproduce.claims import robustness_section
+
+        tables = {"default": reproduction.tables(stores, quick)}
+        tables.update({n: reproduction.tables(s, quick) for n, s in readings.items()})
+        section = robustness_section(reproduction.claims, tables, reproduction.interpretations)
+        path.write_text(path.read_text().rstrip("\n") + "\n\n" + "\n".join(section))
+    return path
 
 
 def rules_header(rules: Mapping[str, str]) -> list[str]:
