@@ -407,3 +407,25 @@ def test_a_metric_no_run_reached_is_all_nan_not_an_error() -> None:
     # A sweep whose runs all stop before 99% coverage stores T99 as a null column.
     runs = pa.table({"strategy": ["a", "b"], "T99": pa.array([None, None], type=pa.null())})
     assert np.isnan(metric_values(runs, "T99")).all()
+
+
+def test_bytes_by_type_bars_fit_their_axis_and_the_legend_covers_none() -> None:
+    """Table 4 of sheng2006 --quick cut its tallest bars and put the legend on them."""
+    from mrexplore.viz.plots import bytes_by_type_figure
+
+    table = {
+        "w3=0 without": {"map_full": 9.0e5, "map_update": 1.2e5},
+        "w3=0 with": {"map_sync": 2.0e5, "seq_table": 1.0e4},
+        "w3=1 without": {"map_full": 1.4e6, "map_update": 2.0e5},
+        "w3=1 with": {"map_sync": 3.0e5, "seq_table": 2.0e4},
+    }
+    fig = bytes_by_type_figure(table)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    tallest = max(sum(v.values()) for v in table.values())
+    assert ax.get_ylim()[0] == 0 and ax.get_ylim()[1] >= tallest
+    renderer = fig.canvas.get_renderer()
+    legend = ax.get_legend().get_window_extent(renderer)
+    for bar in ax.patches:
+        assert not legend.overlaps(bar.get_window_extent(renderer))
+    assert legend.x0 >= ax.get_window_extent(renderer).x1  # right of the axes

@@ -479,9 +479,24 @@ def plot_bytes_by_type(
     Message types get Okabe-Ito colours in sorted order, the same in every bar
     (hatched after the eighth type).
 
+    Every bar fits its axis (the top is set to 5% above the tallest stack) and the
+    legend stands outside the axes, right of them, so it covers no bar.
+
     Returns:
         The path written, as a :class:`~pathlib.Path`.
     """
+    fig = bytes_by_type_figure(bytes_by_type_per_condition, title=title, xlabel=xlabel, dpi=dpi)
+    return _save(fig, path, dpi)
+
+
+def bytes_by_type_figure(
+    bytes_by_type_per_condition: Mapping[str, Mapping[str, float]],
+    *,
+    title: str = "",
+    xlabel: str = "",
+    dpi: int = 110,
+) -> Any:
+    """The figure of :func:`plot_bytes_by_type`, not yet saved."""
     if not bytes_by_type_per_condition:
         raise MrexploreInputError("plot_bytes_by_type needs at least one condition")
     labels = list(bytes_by_type_per_condition)
@@ -493,7 +508,7 @@ def plot_bytes_by_type(
     if not np.all(np.isfinite(heights)) or np.any(heights < 0):
         raise MrexploreInputError("bytes by type must be finite and non-negative")
 
-    fig = _new_figure(max(5.0, 1.0 + 0.6 * len(labels)), 4.4, dpi)
+    fig = _new_figure(max(5.0, 1.0 + 0.6 * len(labels)) + 1.8, 4.4, dpi)
     ax = fig.add_subplot()
     xs = np.arange(len(labels), dtype=np.float64)
     bottom = np.zeros(len(labels))
@@ -521,6 +536,15 @@ def plot_bytes_by_type(
     ax.set_ylabel("bytes sent (bytes)")
     ax.grid(True, axis="y", alpha=0.3)
     ax.set_title(title or "bytes sent by message type", fontsize=10)
+    tallest = float(bottom.max()) if bottom.size else 0.0
+    ax.set_ylim(0.0, 1.05 * tallest if tallest > 0 else 1.0)
     if types:
-        ax.legend(title="message type", fontsize=8, title_fontsize=8, loc="best")
-    return _save(fig, path, dpi)
+        ax.legend(
+            title="message type",
+            fontsize=8,
+            title_fontsize=8,
+            loc="upper left",
+            bbox_to_anchor=(1.02, 1.0),
+            borderaxespad=0.0,
+        )
+    return fig
