@@ -51,6 +51,7 @@ from mrexplore.experiments.reproduce.base import (
     rules_header,
     verdict_section,
 )
+from mrexplore.experiments.reproduce.claims import fmt as _fmt
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -547,12 +548,6 @@ def sweeps(quick: bool) -> dict[str, Sweep]:
 # ------------------------------------------------------------------------ report
 
 Lines = list[str]
-
-
-def _fmt(value: float | None, digits: int = 0) -> str:
-    if value is None or not math.isfinite(value):
-        return "-"
-    return f"{value:,.{digits}f}".replace(",", " ")
 
 
 def _cell(s: Summary, digits: int = 0) -> str:

@@ -58,6 +58,8 @@ from mrexplore.experiments.reproduce.base import (
     rules_header,
     verdict_section,
 )
+from mrexplore.experiments.reproduce.claims import count_outcome, paired
+from mrexplore.experiments.reproduce.claims import fmt as _fmt
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -181,19 +183,6 @@ RULES: dict[str, str] = {
         "schemes, team sizes) and both metrics (WTV and EPV over time)."
     ),
 }
-
-
-def count_outcome(holds: int, total: int) -> Outcome:
-    """Rules ``lowest`` and ``counted``: all cells, at least half, fewer.
-
-    >>> count_outcome(3, 3), count_outcome(2, 4), count_outcome(1, 3), count_outcome(0, 0)
-    ('reproduced', 'partly', 'not reproduced', 'not reproduced')
-    """
-    if total <= 0:
-        return "not reproduced"
-    if holds >= total:
-        return "reproduced"
-    return "partly" if 2 * holds >= total else "not reproduced"
 
 
 def decreasing_outcome(means: Mapping[str, Mapping[int, float]]) -> Outcome:
@@ -407,17 +396,6 @@ def lowest(summaries: Mapping[str, Summary]) -> str | None:
     return min(finite, key=lambda k: (finite[k], k)) if finite else None
 
 
-def paired(by_seed: Mapping[str, Mapping[int, float]], a: str, b: str) -> Summary:
-    """Summary of ``A - B`` over the seeds both ran (nan values dropped).
-
-    >>> paired({"a": {1: 5.0, 2: 7.0}, "b": {1: 4.0, 2: 4.0, 3: 1.0}}, "a", "b").mean
-    2.0
-    """
-    first, second = by_seed.get(a, {}), by_seed.get(b, {})
-    seeds = sorted(set(first) & set(second))
-    return summarize_metric([first[s] - second[s] for s in seeds])
-
-
 def zlot_superior(by_seed: Mapping[str, Mapping[int, float]]) -> bool:
     """Rule ``zlot`` in one panel: Zlot significantly below both YMC and Burgard.
 
@@ -501,12 +479,6 @@ def sweeps(quick: bool) -> dict[str, Sweep]:
 # ------------------------------------------------------------------------ report
 
 Lines = list[str]
-
-
-def _fmt(value: float | None, digits: int = 0) -> str:
-    if value is None or not math.isfinite(value):
-        return "-"
-    return f"{value:,.{digits}f}".replace(",", " ")
 
 
 def _cell(s: Summary | None, digits: int = 0, bold: bool = False) -> str:
