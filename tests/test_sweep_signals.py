@@ -111,21 +111,27 @@ def _check_rows_and_resume(tmp_path: Path, out: Path, seeds: int, kept: int) -> 
     assert not list(out.rglob(".*.tmp"))
 
 
-def _sigterm_case(tmp_path: Path, capsys: pytest.CaptureFixture[str], engine: str) -> None:
+def _sigterm_case(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    engine: str,
+    signum: signal.Signals = signal.SIGTERM,
+) -> None:
     seeds = 6
     extra = () if engine == "local" else ("--engine", engine)
     process, out, marker = _start(tmp_path, seeds, *extra)
     try:
         _wait_rows(process, out, 1, 120)
         assert len(_processes(marker)) >= 3  # the sweep, and the processes it started
-        process.send_signal(signal.SIGTERM)
+        process.send_signal(signum)
         process.wait(timeout=60)
         err = (tmp_path / "stderr.txt").read_text()
-        assert process.returncode == 143, err
+        assert process.returncode == 128 + signum, err
         line = err.strip().splitlines()[-1]
         kept = len(Store(out).done_ids())
         assert line == (
-            f"mrexplore: terminated (SIGTERM); {kept} runs kept in {out}, resume with --resume"
+            f"mrexplore: terminated ({signum.name}); {kept} runs kept in {out}, resume with "
+            "--resume"
         )
         assert 1 <= kept < seeds
         assert _wait_gone(marker, 20) == []  # generous: a loaded machine reaps slowly
@@ -161,6 +167,13 @@ def test_sigterm_stops_a_sweep_keeps_its_rows_and_ends_its_workers(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     _sigterm_case(tmp_path, capsys, "local")
+
+
+def test_sighup_stops_a_sweep_as_sigterm_does(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A closed terminal (SIGHUP) used to kill the sweep on the spot."""
+    _sigterm_case(tmp_path, capsys, "local", signal.SIGHUP)
 
 
 def test_sigkill_of_the_main_process_ends_its_workers(

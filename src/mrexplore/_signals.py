@@ -1,4 +1,4 @@
-"""SIGTERM ends a command the way Ctrl-C does (used by :func:`mrexplore.cli.main`).
+"""SIGTERM and SIGHUP end a command the way Ctrl-C does (used by :func:`mrexplore.cli.main`).
 
 Python turns SIGINT into :class:`KeyboardInterrupt`; SIGTERM (what ``kill`` and
 ``timeout`` send) would end the process on the spot, skipping every ``finally``
@@ -6,7 +6,8 @@ block: a sweep would not stop its workers, a run would leave its staging folder.
 Inside :func:`terminate_interrupts` SIGTERM raises :class:`Terminated`, a
 ``KeyboardInterrupt``, in the main thread instead, so the same clean-up runs and
 the command reports ``mrexplore: terminated (SIGTERM)`` with exit status
-128 + 15 = 143 (Ctrl-C: ``mrexplore: interrupted (SIGINT)``, 130).
+128 + 15 = 143 (SIGHUP, a closed terminal: ``terminated (SIGHUP)``, 129; Ctrl-C:
+``mrexplore: interrupted (SIGINT)``, 130).
 """
 
 from __future__ import annotations

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import signal
 import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
@@ -716,6 +717,13 @@ def _silence_stdout() -> None:
         pass
 
 
+#: Signals that stop a command as Ctrl-C does (finished work kept, status 128 + signal):
+#: SIGTERM (``kill``, ``timeout``) and SIGHUP (the terminal closed), where they exist.
+STOP_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -726,7 +734,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from mrexplore._signals import interrupted, terminate_interrupts
 
     try:
-        with terminate_interrupts():  # SIGTERM stops a command as Ctrl-C does
+        with terminate_interrupts(STOP_SIGNALS):  # SIGTERM, SIGHUP stop it as Ctrl-C does
             status = COMMANDS[args.command](args)
             sys.stdout.flush()  # a reader that went away shows here, not at interpreter exit
         return status
@@ -735,7 +743,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     except KeyboardInterrupt as stop:  # "interrupted (SIGINT)" 130, "terminated (SIGTERM)" 143
         line, status = interrupted(stop)
-        print(line, file=sys.stderr)
+        try:
+            print(line, file=sys.stderr)
+        except OSError:  # SIGHUP: the terminal may be gone
+            pass
         return status
     except BrokenPipeError:
         # The reader went away (`mrexplore query ... | head -1`): stop quietly, as Unix
