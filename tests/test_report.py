@@ -317,6 +317,36 @@ def test_plot_functions_write_pngs(tmp_path: Path, runs: pa.Table, curves: pa.Ta
         assert path.exists() and _is_png(path)
 
 
+def test_every_figure_holds_its_data_and_no_legend_covers_it(
+    tmp_path: Path, runs: pa.Table, curves: pa.Table, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each figure type from hand-made tables: every plotted point lies inside its
+    axis limits and the legend stands outside the axes (issue 14, item 4)."""
+    from mrexplore.viz import plots
+
+    figures: list[Any] = []
+    monkeypatch.setattr(plots, "_save", lambda fig, path, dpi: figures.append(fig) or Path(path))
+    summary = summary_table(runs, "T99", ["robots", "strategy"])
+    plot_metric_vs(summary, tmp_path / "m.png", x="robots")
+    plot_curves(curves, runs, tmp_path / "r.png", y="wtv_8", band="range")
+    plot_bytes_by_type({"a": {"map": 9e5, "bid": 1e5}, "b": {"map": 1e5}}, tmp_path / "b.png")
+    assert len(figures) == 3
+    for fig in figures:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        ax = fig.axes[0]
+        low, high = ax.get_ylim()
+        for line in ax.get_lines():
+            ys = np.asarray(line.get_ydata(), dtype=np.float64)
+            ys = ys[np.isfinite(ys)]
+            assert ys.size == 0 or (low <= ys.min() and ys.max() <= high)
+        for bar in ax.patches:
+            assert low <= bar.get_y() + bar.get_height() <= high
+        legend = ax.get_legend()
+        assert legend is not None
+        assert legend.get_window_extent(renderer).x0 >= ax.get_window_extent(renderer).x1
+
+
 def test_curves_hold_the_last_value_of_finished_runs() -> None:
     from mrexplore.viz.plots import _step_matrix
 

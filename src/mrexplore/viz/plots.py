@@ -197,6 +197,15 @@ def _new_figure(width: float, height: float, dpi: int) -> Any:
     return fig
 
 
+#: Inches added to a figure's width for a legend right of its axes.
+LEGEND_WIDTH_IN = 1.8
+
+
+def _legend_outside(ax: Any, **options: Any) -> None:
+    """The legend right of the axes, top-aligned: it covers no data, whatever the data."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **options)
+
+
 def _save(fig: Any, path: str | os.PathLike[str], dpi: int) -> Path:
     out = Path(path)
     fig.savefig(out, format="png", dpi=dpi)
@@ -257,7 +266,7 @@ def plot_metric_vs(
     styles = _hue_styles(hue, hue_levels)
     dodge = 0.08 * step if len(hue_levels) > 1 else 0.0
 
-    fig = _new_figure(6.4, 4.2, dpi)
+    fig = _new_figure(6.4 + LEGEND_WIDTH_IN, 4.2, dpi)
     ax = fig.add_subplot()
     mean = _as_float_array(data["mean"])
     low = _as_float_array(data["ci_low"])
@@ -289,7 +298,7 @@ def plot_metric_vs(
     ax.set_ylabel(label_for(metric) if metric else "mean")
     ax.grid(True, alpha=0.3)
     ax.set_title(title or f"{metric or 'metric'} vs {x} (mean, error bars: 95% CI)", fontsize=10)
-    ax.legend(title=hue, fontsize=8, title_fontsize=8, loc="best")
+    _legend_outside(ax, title=hue, fontsize=8, title_fontsize=8)
     return _save(fig, path, dpi)
 
 
@@ -393,7 +402,7 @@ def plot_curves(
         pc.cast(kept.column(y), "float64").to_numpy(zero_copy_only=False), dtype=np.float64
     )
 
-    fig = _new_figure(6.4, 4.2, dpi)
+    fig = _new_figure(6.4 + LEGEND_WIDTH_IN, 4.2, dpi)
     ax = fig.add_subplot()
     levels = _order(hues)
     styles = _hue_styles(hue, levels)
@@ -423,7 +432,7 @@ def plot_curves(
     ax.grid(True, alpha=0.3)
     ax.set_title(title or f"{y} over time (mean over seeds, band: {band_text})", fontsize=10)
     if levels:
-        ax.legend(title=f"{hue} (band: {band_text})", fontsize=8, title_fontsize=8, loc="best")
+        _legend_outside(ax, title=f"{hue} (band: {band_text})", fontsize=8, title_fontsize=8)
     return _save(fig, path, dpi)
 
 
@@ -508,7 +517,7 @@ def bytes_by_type_figure(
     if not np.all(np.isfinite(heights)) or np.any(heights < 0):
         raise MrexploreInputError("bytes by type must be finite and non-negative")
 
-    fig = _new_figure(max(5.0, 1.0 + 0.6 * len(labels)) + 1.8, 4.4, dpi)
+    fig = _new_figure(max(5.0, 1.0 + 0.6 * len(labels)) + LEGEND_WIDTH_IN, 4.4, dpi)
     ax = fig.add_subplot()
     xs = np.arange(len(labels), dtype=np.float64)
     bottom = np.zeros(len(labels))
@@ -539,12 +548,5 @@ def bytes_by_type_figure(
     tallest = float(bottom.max()) if bottom.size else 0.0
     ax.set_ylim(0.0, 1.05 * tallest if tallest > 0 else 1.0)
     if types:
-        ax.legend(
-            title="message type",
-            fontsize=8,
-            title_fontsize=8,
-            loc="upper left",
-            bbox_to_anchor=(1.02, 1.0),
-            borderaxespad=0.0,
-        )
+        _legend_outside(ax, title="message type", fontsize=8, title_fontsize=8)
     return fig
