@@ -201,9 +201,20 @@ def _new_figure(width: float, height: float, dpi: int) -> Any:
 LEGEND_WIDTH_IN = 1.8
 
 
-def _legend_outside(ax: Any, **options: Any) -> None:
+def legend_outside(ax: Any, **options: Any) -> None:
     """The legend right of the axes, top-aligned: it covers no data, whatever the data."""
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **options)
+
+
+def figure_legend_outside(fig: Any, axes: Sequence[Any], **options: Any) -> None:
+    """One legend for panels that share their series, right of all of them (the
+    figure must use the constrained layout). Each label once, in first-seen order."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(label, handle)
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside right upper", **options)
 
 
 def _save(fig: Any, path: str | os.PathLike[str], dpi: int) -> Path:
@@ -298,7 +309,7 @@ def plot_metric_vs(
     ax.set_ylabel(label_for(metric) if metric else "mean")
     ax.grid(True, alpha=0.3)
     ax.set_title(title or f"{metric or 'metric'} vs {x} (mean, error bars: 95% CI)", fontsize=10)
-    _legend_outside(ax, title=hue, fontsize=8, title_fontsize=8)
+    legend_outside(ax, title=hue, fontsize=8, title_fontsize=8)
     return _save(fig, path, dpi)
 
 
@@ -432,7 +443,7 @@ def plot_curves(
     ax.grid(True, alpha=0.3)
     ax.set_title(title or f"{y} over time (mean over seeds, band: {band_text})", fontsize=10)
     if levels:
-        _legend_outside(ax, title=f"{hue} (band: {band_text})", fontsize=8, title_fontsize=8)
+        legend_outside(ax, title=f"{hue} (band: {band_text})", fontsize=8, title_fontsize=8)
     return _save(fig, path, dpi)
 
 
@@ -548,5 +559,5 @@ def bytes_by_type_figure(
     tallest = float(bottom.max()) if bottom.size else 0.0
     ax.set_ylim(0.0, 1.05 * tallest if tallest > 0 else 1.0)
     if types:
-        _legend_outside(ax, title="message type", fontsize=8, title_fontsize=8)
+        legend_outside(ax, title="message type", fontsize=8, title_fontsize=8)
     return fig

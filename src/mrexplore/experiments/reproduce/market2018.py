@@ -544,10 +544,12 @@ def _panels_figure(
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
+    from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside
+
     keys = [s for s in setups if any(c[0] == s.key for c in stats)]
     if not keys:
         return None
-    fig = Figure(figsize=(3.6 * len(keys), 3.6), dpi=110, layout="constrained")
+    fig = Figure(figsize=(3.6 * len(keys) + LEGEND_WIDTH_IN, 3.6), dpi=110, layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, len(keys), squeeze=False)[0]
     for ax, setup in zip(axes, keys, strict=True):
@@ -583,7 +585,7 @@ def _panels_figure(
         ax.set_title(setup.label, fontsize=9)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, loc="upper right")
+    figure_legend_outside(fig, axes, fontsize=7)
     axes[0].set_ylabel(ylabel, fontsize=8)
     fig.suptitle(f"{title}\n(mean over seeds, error bars: 95% CI)", fontsize=10)
     fig.savefig(path, format="png")

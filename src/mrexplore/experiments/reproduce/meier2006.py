@@ -746,9 +746,15 @@ def _figure(width: float, height: float) -> Any:
     return fig
 
 
+def _legend(ax: Any, **options: Any) -> None:
+    from mrexplore.viz.plots import legend_outside
+
+    legend_outside(ax, **options)
+
+
 def _save(fig: Any, path: Path) -> Path:
     fig.tight_layout()
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight")  # legends stand outside the axes
     return path
 
 
@@ -808,7 +814,7 @@ def _fig6(data: Sequence[SettingData], path: Path) -> Path:
         ax.set_title(f"Fig. 6: {item.setting.label} (bars, bands: 95% CI)", fontsize=10)
         ax.grid(True, alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7, loc="best")
+            _legend(ax, fontsize=7)
     return _save(fig, path)
 
 
@@ -873,7 +879,7 @@ def _table2_figure(ours: Mapping[float, Summary], path: Path) -> Path:
     ax.set_ylabel("average approximation error (%)")
     ax.set_title("Table 2: approximation error", fontsize=10)
     if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7)
+        _legend(ax, fontsize=7)
     return _save(fig, path)
 
 
@@ -915,7 +921,7 @@ def _fig7(item: SettingData, path: Path) -> Path:
     ax.set_title(f"Fig. 7: traffic over time, {item.setting.label}", fontsize=10)
     ax.grid(True, alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7)
+        _legend(ax, fontsize=7)
 
     ax = fig.add_subplot(1, 2, 2)
     labels, values, colours = [], [], []

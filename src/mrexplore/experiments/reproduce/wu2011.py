@@ -563,7 +563,7 @@ def _curve_figure(
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from mrexplore.viz.plots import strategy_colour
+    from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside, strategy_colour
 
     present = [p for p in panels if any(v.panel == p for v in values)]
     if not present:
@@ -574,7 +574,7 @@ def _curve_figure(
         if arrays_of_run is not None and arrays_of_run["tick"].size:
             key = (v.map, v.robots)
             horizons[key] = max(horizons.get(key, 0), int(arrays_of_run["tick"][-1]))
-    fig = Figure(figsize=(3.3 * len(present), 3.4), dpi=110, layout="constrained")
+    fig = Figure(figsize=(3.3 * len(present) + LEGEND_WIDTH_IN, 3.4), dpi=110, layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, len(present), squeeze=False)[0]
     for ax, panel in zip(axes, present, strict=True):
@@ -602,7 +602,7 @@ def _curve_figure(
         ax.set_xlabel("time (ticks)", fontsize=8)
         ax.grid(True, alpha=0.3)
         ax.tick_params(labelsize=7)
-        ax.legend(fontsize=7, loc="upper left" if column.startswith("wtv") else "upper right")
+    figure_legend_outside(fig, axes, fontsize=7)
     axes[0].set_ylabel(ylabel, fontsize=8)
     fig.suptitle(f"{title}\n(mean of the runs, band: 95% CI)", fontsize=10)
     fig.savefig(path, format="png")
@@ -616,13 +616,22 @@ def _combinations_figure(
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from mrexplore.viz.plots import strategy_colour, strategy_marker
+    from mrexplore.viz.plots import (
+        LEGEND_WIDTH_IN,
+        figure_legend_outside,
+        strategy_colour,
+        strategy_marker,
+    )
 
     maps = [m for m in MAPS if any(p[0] == m for p in stats)]
     starts = [s for s in STARTS if any(p[1] == s for p in stats)]
     if not maps or not starts:
         return None
-    fig = Figure(figsize=(3.4 * len(maps), 3.0 * len(starts)), dpi=110, layout="constrained")
+    fig = Figure(
+        figsize=(3.4 * len(maps) + LEGEND_WIDTH_IN, 3.0 * len(starts)),
+        dpi=110,
+        layout="constrained",
+    )
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(starts), len(maps), squeeze=False)
     for row, start in enumerate(starts):
@@ -655,7 +664,7 @@ def _combinations_figure(
             ax.set_ylabel(ylabel, fontsize=8)
             ax.tick_params(labelsize=7)
             ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=7, loc="upper right")
+    figure_legend_outside(fig, fig.axes, fontsize=7)
     fig.suptitle(f"{title} (mean, error bars: 95% CI)", fontsize=10)
     fig.savefig(path, format="png")
     return path
