@@ -87,7 +87,12 @@ from mrexplore.strategies.base import (
     RobotView,
     passable,
 )
-from mrexplore.strategies.fallback import BlockedTargets, CoordinatorWatch, coordinator_timeout
+from mrexplore.strategies.fallback import (
+    FALLBACK_PARAMS,
+    BlockedTargets,
+    CoordinatorWatch,
+    coordinator_timeout,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -192,15 +197,7 @@ class Burgard(FrontierStrategy):
         ),
         "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
         "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks", low=1),
-        "coordinator_timeout": Param(
-            0,
-            "ticks",
-            "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
-            low=0,
-        ),
-        "block_limit": Param(
-            2, "", "give up a target after this many blocks in a row; 0 = never", low=0
-        ),
+        **FALLBACK_PARAMS,
         **REPLAN_PARAMS,
     }
 

@@ -24,7 +24,20 @@ beside the paper's text, with their parameters.
 
 from __future__ import annotations
 
-from mrexplore.strategies.base import Cell, Decision, RobotView
+from mrexplore.strategies.base import Cell, Decision, Param, RobotView
+
+FALLBACK_PARAMS: dict[str, Param] = {
+    "coordinator_timeout": Param(
+        0,
+        "ticks",
+        "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
+        low=0,
+    ),
+    "block_limit": Param(
+        2, "", "give up a target after this many blocks in a row; 0 = never", low=0
+    ),
+}
+"""The parameters of the two rules, for every strategy that uses them."""
 
 TIMEOUT_REQUESTS = 3
 """``coordinator_timeout = 0`` means this many request periods (``request_timeout``):

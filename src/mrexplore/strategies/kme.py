@@ -184,7 +184,12 @@ from mrexplore.strategies.base import (
     RobotView,
     passable,
 )
-from mrexplore.strategies.fallback import BlockedTargets, CoordinatorWatch, coordinator_timeout
+from mrexplore.strategies.fallback import (
+    FALLBACK_PARAMS,
+    BlockedTargets,
+    CoordinatorWatch,
+    coordinator_timeout,
+)
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -825,15 +830,7 @@ class Kme(FrontierStrategy):
             0, "ticks", "decide with the reports at hand after this; 0 = auto", low=0
         ),
         "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
-        "coordinator_timeout": Param(
-            0,
-            "ticks",
-            "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
-            low=0,
-        ),
-        "block_limit": Param(
-            2, "", "give up a target after this many blocks in a row; 0 = never", low=0
-        ),
+        **FALLBACK_PARAMS,
         **REPLAN_PARAMS,
     }
 
