@@ -14,6 +14,7 @@ from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import market2018 as repro
 from mrexplore.experiments.reproduce.claims import paired
+from mrexplore.experiments.reproduce.render import bytes_by_type, summaries
 from mrexplore.experiments.store import Store
 
 FIGURES = ("time.png", "coordination_bytes.png", "bytes_by_type.png")
@@ -148,27 +149,26 @@ def _runs() -> pa.Table:
     )
 
 
-def test_run_numbers_and_cell_summaries() -> None:
-    numbers = repro.run_numbers(_runs(), "intel")
-    assert len(numbers) == 4  # the failed run is left out
-    by_seed = {(n.arm, n.seed): n for n in numbers}
-    centralised = by_seed[("centralised", 1)]
-    assert centralised.coordination_bytes == 100.0 and centralised.negotiation_bytes == 0.0
-    decentralised = by_seed[("decentralised", 2)]
-    assert decentralised.time == 400.0 and not decentralised.reached  # censored at its end
-    assert decentralised.negotiation_bytes == 800.0 == decentralised.coordination_bytes
-    assert decentralised.negotiation_messages == 18.0
-    assert decentralised.bytes_by_type == {
+def test_run_values_and_summaries() -> None:
+    rows = [{**r, "experiment": "intel-x"} for r in _runs().to_pylist() if r["status"] != "failed"]
+    values = repro.run_values(rows, quick=False)
+    cell = ("intel", 2)
+    assert values["coordination_bytes"][cell]["centralised"][1] == 100.0
+    assert values["negotiation_bytes"][cell]["centralised"][1] == 0.0
+    assert values["time"][cell]["decentralised"][2] == 400.0  # censored at its end
+    assert values["reached"][cell]["decentralised"] == {1: 1.0, 2: 0.0}
+    assert values["negotiation_bytes"][cell]["decentralised"][2] == 800.0
+    assert values["coordination_bytes"][cell]["decentralised"][2] == 800.0
+    assert values["negotiation_messages"][cell]["decentralised"][2] == 18.0
+    assert bytes_by_type(rows[3]) == {
         "map_update": 1800.0,
         "weight_request": 300.0,
         "weights": 500.0,
     }
-    times = repro.cell_summaries(numbers, "time")[("intel", 2)]
+    times = summaries(values["time"])[cell]
     assert times["centralised"].mean == 110.0
     assert times["decentralised"].mean == 245.0 and times["decentralised"].n == 2
-    difference = paired(
-        repro.by_cell(numbers, "time")[("intel", 2)], "decentralised", "centralised"
-    )
+    difference = paired(values["time"][cell], "decentralised", "centralised")
     assert difference.mean == pytest.approx(((90 - 100) + (400 - 120)) / 2)
 
 

@@ -39,15 +39,12 @@ tables. The helpers (:func:`arm_of`, :func:`run_numbers`, :func:`cell_summaries`
 
 from __future__ import annotations
 
-import math
-import time
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pyarrow as pa
 
 from mrexplore.comm.messages import (
     MAP_DELTA,
@@ -57,20 +54,38 @@ from mrexplore.comm.messages import (
     MAP_UPDATE,
     SEQ_TABLE,
 )
-from mrexplore.experiments.reproduce.base import (
-    Reproduction,
-)
+from mrexplore.experiments.reproduce.base import Reproduction
 from mrexplore.experiments.reproduce.claims import (
+    CellKey,
     Claim,
     Counted,
     Interpretation,
     Values,
-    claims_section,
-    fmt,
 )
-from mrexplore.experiments.stats import Summary, summarize_metric
+from mrexplore.experiments.reproduce.render import (
+    Experiment,
+    Lines,
+    Metric,
+    Row,
+    arm_table,
+    arms_in,
+    bytes_by_type,
+    bytes_of,
+    column,
+    lines_figure,
+    panels_of,
+    reached,
+    report_head,
+    rows_of,
+    settings_table,
+    sweeps_of,
+    table,
+    tabulate,
+    time_to,
+    write_report,
+)
 from mrexplore.experiments.store import Store
-from mrexplore.experiments.sweep import Sweep, sweep_from_dict
+from mrexplore.experiments.sweep import Sweep
 from mrexplore.strategies.market_occupancy import WEIGHT_REQUEST, WEIGHTS
 
 ID = "market2018"
@@ -216,111 +231,43 @@ MAP_TYPES = (MAP_UPDATE, MAP_FULL, MAP_MULTICAST, MAP_DELTA, SEQ_TABLE, MAP_SYNC
 NEGOTIATION_TYPES = (WEIGHT_REQUEST, WEIGHTS)
 
 
-def _value(row: Mapping[str, Any], key: str) -> float:
-    value = row.get(key)
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return 0.0
-    return float(value)
+def coordination_bytes(row: Row) -> float:
+    """Bytes of every message type but map sharing."""
+    return sum(b for t, b in bytes_by_type(row).items() if t not in MAP_TYPES)
 
 
-@dataclass(frozen=True)
-class RunNumbers:
-    """One run's numbers for the report."""
-
-    map_key: str
-    arm: str
-    robots: int
-    seed: int
-    status: str
-    time: float
-    """T99, or the run's length if it never reached 99% (a lower bound)."""
-    reached: bool
-    negotiation_bytes: float
-    negotiation_messages: float
-    coordination_bytes: float
-    bytes_total: float
-    diameter: float
-    bytes_by_type: dict[str, float]
-
-
-def run_numbers(runs: pa.Table, map_key: str) -> list[RunNumbers]:
-    """The numbers of every usable run (status not ``failed``) of one map.
-
-    >>> t = pa.table({"strategy": ["burgard"], "robots": [2], "seed": [1],
-    ...     "status": ["max_ticks"], "T99": [None], "ticks": [500], "bytes_total": [90],
-    ...     "bytes_by_type_map_update": [60], "bytes_by_type_status": [30],
-    ...     "messages_by_type_status": [3], "group_diameter_mean": [4.5]})
-    >>> n = run_numbers(t, "office")[0]
-    >>> n.arm, n.time, n.reached, n.coordination_bytes, n.negotiation_bytes
-    ('centralised', 500.0, False, 30.0, 0.0)
-    """
-    out: list[RunNumbers] = []
-    for row in runs.to_pylist():
-        if row.get("status") == "failed":
-            continue
-        t99 = row.get("T99")
-        by_type = {
-            key[len("bytes_by_type_") :]: _value(row, key)
-            for key in row
-            if key.startswith("bytes_by_type_") and _value(row, key) > 0
-        }
-        out.append(
-            RunNumbers(
-                map_key=map_key,
-                arm=arm_of(row),
-                robots=int(row["robots"]),
-                seed=int(row["seed"]),
-                status=str(row["status"]),
-                time=float(t99) if t99 is not None else float(row["ticks"]),
-                reached=t99 is not None,
-                negotiation_bytes=sum(by_type.get(t, 0.0) for t in NEGOTIATION_TYPES),
-                negotiation_messages=sum(
-                    _value(row, f"messages_by_type_{t}") for t in NEGOTIATION_TYPES
-                ),
-                coordination_bytes=sum(b for t, b in by_type.items() if t not in MAP_TYPES),
-                bytes_total=_value(row, "bytes_total"),
-                diameter=_value(row, "group_diameter_mean"),
-                bytes_by_type=by_type,
-            )
-        )
-    return out
-
+#: The numbers of a run the report and the claims read. ``time`` is T99, or the run's
+#: length if it never reached 99% (a lower bound; ``reached`` says which).
+METRICS: dict[str, Metric] = {
+    "time": time_to("T99"),
+    "reached": reached("T99"),
+    "negotiation_bytes": bytes_of(NEGOTIATION_TYPES),
+    "negotiation_messages": bytes_of(NEGOTIATION_TYPES, "messages"),
+    "coordination_bytes": coordination_bytes,
+    "bytes_total": column("bytes_total"),
+    "diameter": column("group_diameter_mean"),
+}
 
 Cell = tuple[str, int]
 """``(map key, team size)``."""
 
-METRICS = (
-    "time",
-    "negotiation_bytes",
-    "negotiation_messages",
-    "coordination_bytes",
-    "bytes_total",
-    "diameter",
-)
+
+def map_key(row: Row, quick: bool) -> str:
+    """The map of a run, from its experiment's name (``<map>-<arm>``)."""
+    name = str(row.get("experiment", ""))
+    return next((s.key for s in map_setups(quick) if name.startswith(f"{s.key}-")), name)
 
 
-def by_cell(numbers: Iterable[RunNumbers], metric: str) -> dict[Cell, dict[str, dict[int, float]]]:
-    """``(map, robots) -> arm -> seed -> value``."""
-    out: dict[Cell, dict[str, dict[int, float]]] = {}
-    for n in numbers:
-        out.setdefault((n.map_key, n.robots), {}).setdefault(n.arm, {})[n.seed] = float(
-            getattr(n, metric)
-        )
-    return out
-
-
-def cell_summaries(numbers: Iterable[RunNumbers], metric: str) -> dict[Cell, dict[str, Summary]]:
-    """``(map, robots) -> arm ->`` :func:`summarize_metric` over the seeds.
-
-    >>> n = [RunNumbers("m", "centralised", 2, s, "complete", 10.0 * s, True, 0.0, 0.0,
-    ...      0.0, 0.0, 1.0, {}) for s in (1, 2, 3)]
-    >>> cell_summaries(n, "time")[("m", 2)]["centralised"].mean
-    20.0
-    """
-    return {
-        cell: {arm: summarize_metric(list(s.values())) for arm, s in arms.items()}
-        for cell, arms in by_cell(numbers, metric).items()
-    }
+def run_values(rows: Iterable[Row], quick: bool) -> dict[str, dict[CellKey, Any]]:
+    """``metric -> (map, robots) -> arm -> seed -> value``, maps in the report's order."""
+    order = {s.key: i for i, s in enumerate(map_setups(quick))}
+    return tabulate(
+        rows,
+        METRICS,
+        lambda r: (map_key(r, quick), int(r["robots"])),
+        arm_of,
+        lambda c: (order.get(c[0], 99), c[1]),
+    )
 
 
 # ------------------------------------------------------------ the paper's claims
@@ -459,140 +406,63 @@ INTERPRETATIONS = (
 # ------------------------------------------------------------------------ sweeps
 
 
-def _sweep(name: str, seeds: Sequence[int], fixed: dict[str, Any], grid: dict[str, Any]) -> Sweep:
-    data = {
-        "sweep": {"name": name, "seeds": list(seeds), "curves_every": 10},
-        "fixed": {**FIXED, **fixed},
-        "grid": grid,
-    }
-    return sweep_from_dict(data, source=f"{ID}:{name}")
-
-
-def sweeps(quick: bool) -> dict[str, Sweep]:
-    """One sweep per map and arm (``<map>-<arm>``)."""
+def experiments(quick: bool) -> list[Experiment]:
+    """One experiment per map and arm (``<map>-<arm>``)."""
     seeds = QUICK_SEEDS if quick else SEEDS
     robots = {"robots": list(QUICK_TEAM_SIZES if quick else TEAM_SIZES)}
-    market = {"strategy": "market-occupancy"}
-    out: dict[str, Sweep] = {}
+    market = {**FIXED, "strategy": "market-occupancy"}
+    out = []
     for setup in map_setups(quick):
-        base = dict(setup.settings)
         arms: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
-            CENTRALISED: ({**base, "strategy": "burgard"}, robots),
-            DECENTRALISED: (
-                {**base, **market},
-                {**robots, "set": {"lambda_f": [0.0, NO_OCCUPANCY_LAMBDA_F]}},
-            ),
-            RRT: ({**base, **market, "set": {"frontier_detector": "rrt"}}, robots),
+            CENTRALISED: ({**FIXED, "strategy": "burgard"}, robots),
+            DECENTRALISED: (market, {**robots, "set": {"lambda_f": [0.0, NO_OCCUPANCY_LAMBDA_F]}}),
+            RRT: ({**market, "set": {"frontier_detector": "rrt"}}, robots),
             "timer": (
-                {**base, **market, "set": {"event_based": False}},
+                {**market, "set": {"event_based": False}},
                 {**robots, "set": {"replan_every": list(TIMER_PERIODS)}},
             ),
         }
         for arm, (fixed, grid) in arms.items():
-            name = f"{setup.key}-{arm}"
             # The RRT detector costs most: one seed in a quick run.
-            out[name] = _sweep(name, seeds[:1] if quick and arm == RRT else seeds, fixed, grid)
+            chosen = seeds[:1] if quick and arm == RRT else seeds
+            fixed = {**fixed, **setup.settings}
+            out.append(Experiment(f"{setup.key}-{arm}", fixed, grid, chosen, curves_every=10))
     return out
+
+
+def sweeps(quick: bool) -> dict[str, Sweep]:
+    return sweeps_of(ID, experiments(quick))
 
 
 # ------------------------------------------------------------------------ report
 
-Lines = list[str]
+
+#: Our choices where the paper is silent, as the report's settings section lists them.
+NOTES = (
+    "*Maps*: the paper's Fig. 9 environments are not in our copy. We take two real "
+    "indoor maps (Intel lab: corridors and small rooms; the AWS small house, a ROS/Gazebo "
+    "world) and one generated office. Their SLAM files are at 0.05 m; cells of 0.2 m "
+    "(the size of a small robot) keep the runs short.",
+    "*Exploration time* is T99, ticks until 99% of the explorable cells are known: "
+    "SLAM maps leave a few pockets that only a visit next to them reveals.",
+    "*Event-based communication* (§III.B, Fig. 4): a robot that reaches its goal sends "
+    "a weight-calculation request with its frontier list; the others answer with their "
+    "weights. The paper names no alternative; ours is time-triggered negotiation "
+    "(`event_based=false`, added to `market-occupancy` for this reproduction): the same "
+    "rounds, opened by each robot's clock instead of its arrival; a robot that arrived "
+    "waits for the next round.",
+    '*Occupancy ablation*: `lambda_f = 0` means "the default" in our parameters, so '
+    f"`no-occupancy` sets `lambda_f = {NO_OCCUPANCY_LAMBDA_F:g}`.",
+    "*Traffic*: negotiation = `weight_request` + `weights` bytes; coordination = every "
+    "message type except map sharing (`map_update`, ...), i.e. `status` + `assign` for "
+    "`burgard`. The byte model is ours (a frontier point two float32, a weight one "
+    "float32, a 7-byte header); the paper gives none.",
+    "*Dispersion* is the mean group diameter (largest distance between two robots, "
+    "cells, averaged over the run).",
+)
 
 
-def _cell(s: Summary | None, digits: int = 0, flag: str = "") -> str:
-    if s is None:
-        return "-"
-    interval = f"{fmt(s.ci_low, digits)}..{fmt(s.ci_high, digits)}"
-    return f"{fmt(s.mean, digits)}{flag} (sd {fmt(s.sd, digits)}; CI {interval}; n {s.n})"
-
-
-def _arms_present(stats: Mapping[Cell, Mapping[str, Summary]]) -> list[str]:
-    present = {arm for arms in stats.values() for arm in arms}
-    return [arm for arm in ARMS if arm in present]
-
-
-def _table(
-    stats: Mapping[Cell, Mapping[str, Summary]],
-    cells: Sequence[Cell],
-    labels: Mapping[str, str],
-    digits: int = 0,
-    flags: Mapping[tuple[Cell, str], str] | None = None,
-) -> Lines:
-    arms = _arms_present(stats)
-    lines = [
-        "| map | robots | " + " | ".join(f"`{a}`" for a in arms) + " |",
-        "|---|---|" + "---|" * len(arms),
-    ]
-    for cell in cells:
-        row = stats.get(cell, {})
-        values = [_cell(row.get(arm), digits, (flags or {}).get((cell, arm), "")) for arm in arms]
-        lines.append(f"| {labels[cell[0]]} | {cell[1]} | " + " | ".join(values) + " |")
-    return lines
-
-
-def _panels_figure(
-    stats: Mapping[Cell, Mapping[str, Summary]],
-    setups: Sequence[MapSetup],
-    path: Path,
-    ylabel: str,
-    title: str,
-    arms: Sequence[str],
-    log: bool = False,
-) -> Path | None:
-    """One subplot per map: mean against team size, one line per arm, 95% CI bars."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside
-
-    keys = [s for s in setups if any(c[0] == s.key for c in stats)]
-    if not keys:
-        return None
-    fig = Figure(figsize=(3.6 * len(keys) + LEGEND_WIDTH_IN, 3.6), dpi=110, layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, len(keys), squeeze=False)[0]
-    for ax, setup in zip(axes, keys, strict=True):
-        sizes = sorted({c[1] for c in stats if c[0] == setup.key})
-        for i, arm in enumerate(arms):
-            points = [(n, stats[(setup.key, n)].get(arm)) for n in sizes]
-            kept = [(n, s) for n, s in points if s is not None and math.isfinite(s.mean)]
-            if log:
-                kept = [(n, s) for n, s in kept if s.mean > 0]
-            if not kept:
-                continue
-            xs = np.array([n for n, _ in kept], dtype=np.float64) + (i - len(arms) / 2) * 0.06
-            means = np.array([s.mean for _, s in kept])
-            below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
-            above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
-            if log:
-                below = np.minimum(below, means * 0.999)
-            ax.errorbar(
-                xs,
-                means,
-                yerr=np.vstack([below, above]),
-                color=ARM_COLOURS.get(arm, "#000000"),
-                marker="o",
-                ms=4,
-                lw=1.3,
-                capsize=2,
-                label=arm,
-            )
-        if log:
-            ax.set_yscale("log")
-        ax.set_xticks(sizes)
-        ax.set_xlabel("robots", fontsize=8)
-        ax.set_title(setup.label, fontsize=9)
-        ax.tick_params(labelsize=7)
-        ax.grid(True, alpha=0.3)
-    figure_legend_outside(fig, axes, fontsize=7)
-    axes[0].set_ylabel(ylabel, fontsize=8)
-    fig.suptitle(f"{title}\n(mean over seeds, error bars: 95% CI)", fontsize=10)
-    fig.savefig(path, format="png")
-    return path
-
-
-def _settings_section(quick: bool, setups: Sequence[MapSetup]) -> Lines:
+def _settings(quick: bool, setups: Sequence[MapSetup]) -> Lines:
     seeds = QUICK_SEEDS if quick else SEEDS
     sizes = QUICK_TEAM_SIZES if quick else TEAM_SIZES
     rows = [
@@ -652,64 +522,14 @@ def _settings_section(quick: bool, setups: Sequence[MapSetup]) -> Lines:
             "ticks: one cell (0.2 m) of path per tick; exploration time = T99",
         ),
     ]
-    lines = ["## Settings", "", "| setting | paper | ours |", "|---|---|---|"]
-    lines += [f"| {name} | {paper} | {ours} |" for name, paper, ours in rows]
-    lines += [
-        "",
-        "Choices where the paper is silent or our world differs:",
-        "",
-        "- *Maps*: the paper's Fig. 9 environments are not in our copy. We take two real "
-        "indoor maps (Intel lab: corridors and small rooms; the AWS small house, a ROS/Gazebo "
-        "world) and one generated office. Their SLAM files are at 0.05 m; cells of 0.2 m "
-        "(the size of a small robot) keep the runs short.",
-        "- *Exploration time* is T99, ticks until 99% of the explorable cells are known: "
-        "SLAM maps leave a few pockets that only a visit next to them reveals.",
-        "- *Event-based communication* (§III.B, Fig. 4): a robot that reaches its goal sends "
-        "a weight-calculation request with its frontier list; the others answer with their "
-        "weights. The paper names no alternative; ours is time-triggered negotiation "
-        "(`event_based=false`, added to `market-occupancy` for this reproduction): the same "
-        "rounds, opened by each robot's clock instead of its arrival; a robot that arrived "
-        "waits for the next round.",
-        '- *Occupancy ablation*: `lambda_f = 0` means "the default" in our parameters, so '
-        f"`no-occupancy` sets `lambda_f = {NO_OCCUPANCY_LAMBDA_F:g}`.",
-        "- *Traffic*: negotiation = `weight_request` + `weights` bytes; coordination = every "
-        "message type except map sharing (`map_update`, ...), i.e. `status` + `assign` for "
-        "`burgard`. The byte model is ours (a frontier point two float32, a weight one "
-        "float32, a 7-byte header); the paper gives none.",
-        "- *Dispersion* is the mean group diameter (largest distance between two robots, "
-        "cells, averaged over the run).",
-        "",
-    ]
-    return lines
-
-
-def _numbers(stores: Mapping[str, Store], quick: bool) -> tuple[list[RunNumbers], int]:
-    """Every usable run's numbers, and the number of failed runs."""
-    setups = map_setups(quick)
-    numbers: list[RunNumbers] = []
-    failed = 0
-    for name, store in stores.items():
-        key = next((s.key for s in setups if name.startswith(f"{s.key}-")), name)
-        runs = store.query("SELECT * FROM runs ORDER BY run_id")
-        failed += sum(s == "failed" for s in runs.column("status").to_pylist())
-        numbers += run_numbers(runs, key)
-    return numbers, failed
-
-
-def _ordered_cells(cells: Iterable[Cell], quick: bool) -> list[Cell]:
-    order = {s.key: i for i, s in enumerate(map_setups(quick))}
-    return sorted(cells, key=lambda c: (order.get(c[0], 99), c[1]))
+    return settings_table(rows, NOTES)
 
 
 def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
     """``metric -> (map, robots) -> arm -> seed -> value`` over the teams (2+ robots),
     in the report's order: what :data:`CLAIMS` read."""
-    numbers, _ = _numbers(stores, quick)
-    out: dict[str, Values] = {}
-    for metric in METRICS:
-        values = by_cell(numbers, metric)
-        out[metric] = {c: values[c] for c in _ordered_cells(values, quick) if c[1] >= 2}
-    return out
+    values = run_values(rows_of(stores)[0], quick)
+    return {m: {c: v for c, v in cells.items() if c[1] >= 2} for m, cells in values.items()}
 
 
 def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
@@ -718,39 +538,42 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
 
     out = Path(out)
     setups = map_setups(quick)
-    labels = {s.key: s.label for s in setups}
-    numbers, failed = _numbers(stores, quick)
-    labels.update({n.map_key: n.map_key for n in numbers if n.map_key not in labels})
-    stats = {metric: cell_summaries(numbers, metric) for metric in METRICS}
-    cells = _ordered_cells(stats["time"], quick)
-    teams = [c for c in cells if c[1] >= 2]
-    flags = {((n.map_key, n.robots), n.arm): "*" for n in numbers if not n.reached}
-    statuses: dict[str, int] = {}
-    for n in numbers:
-        statuses[n.status] = statuses.get(n.status, 0) + 1
-    if failed:
-        statuses["failed"] = failed
+    labels: dict[str, str] = {s.key: s.label for s in setups}
+    rows, statuses = rows_of(stores)
+    values = run_values(rows, quick)
+    teams = {m: {c: v for c, v in cells.items() if c[1] >= 2} for m, cells in values.items()}
+    flags = {
+        (c, arm): "*"
+        for c, arms in values["reached"].items()
+        for arm, by_seed in arms.items()
+        if min(by_seed.values()) < 1
+    }
+    arms = arms_in(values["time"], ARMS)
 
-    lines: Lines = [f"# Reproduction: {TITLE}", ""]
-    if quick:
-        lines += [
-            "> **Quick run** (`--quick`): the three maps (the office 80 x 56 cells), "
-            f"{len(QUICK_SEEDS)} seeds (the RRT arm 1), {', '.join(map(str, QUICK_TEAM_SIZES))} "
-            "robots. Its "
-            "verdicts are indicative only; run without `--quick` for the full settings.",
-            "",
-        ]
-    lines += [
-        f"Citation: {CITATION}",
-        "",
-        f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: "
-        + ", ".join(f"{k} {v}" for k, v in sorted(statuses.items()))
-        + ".",
-        "",
-    ]
-    lines += _settings_section(quick, setups)
-    lines += ["## Arms", "", "| arm | what |", "|---|---|"]
-    lines += [f"| `{arm}` | {ARM_LABELS[arm]} |" for arm in _arms_present(stats["time"])]
+    def arm_tab(metric_values: Values, digits: int = 0, marks: Any = None) -> Lines:
+        label = lambda c: (labels.get(c[0], c[0]), c[1])  # noqa: E731
+        return [*arm_table(metric_values, ARMS, ["map", "robots"], label, digits, marks), ""]
+
+    def figure(metric_values: Values, name: str, ylabel: str, title: str, log: bool) -> Lines:
+        panels = panels_of(metric_values, arms, lambda c: labels.get(c[0], str(c[0])))
+        path = lines_figure(
+            panels,
+            out / name,
+            xlabel="robots",
+            ylabel=ylabel,
+            title=title,
+            colours=ARM_COLOURS,
+            log=log,
+        )
+        return [f"![{title.lower()}]({name})", ""] if path else []
+
+    quick_note = (
+        f"the three maps (the office 80 x 56 cells), {len(QUICK_SEEDS)} seeds (the RRT arm "
+        f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
+    )
+    lines = report_head(TITLE, CITATION, statuses, quick_note if quick else None)
+    lines += _settings(quick, setups)
+    lines += ["## Arms", "", *table(["arm", "what"], [(f"`{a}`", ARM_LABELS[a]) for a in arms])]
     lines += [
         "",
         "## Exploration time (§IV, abstract)",
@@ -764,14 +587,8 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         "count with their length.",
         "",
     ]
-    lines += _table(stats["time"], cells, labels, 0, flags)
-    lines.append("")
-    arms_all = _arms_present(stats["time"])
-    path = _panels_figure(
-        stats["time"], setups, out / "time.png", "T99 (ticks)", "Exploration time", arms_all
-    )
-    if path is not None:
-        lines += ["![exploration time](time.png)", ""]
+    lines += arm_tab(values["time"], 0, flags)
+    lines += figure(values["time"], "time.png", "T99 (ticks)", "Exploration time", False)
     lines += [
         "## Negotiation traffic (abstract, §I, §III.B)",
         "",
@@ -779,43 +596,38 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         "",
         "Ours: bytes of `weight_request` + `weights` per run, mean (sd; 95% CI; n):",
         "",
-    ]
-    lines += _table(stats["negotiation_bytes"], teams, labels)
-    lines += ["", "Negotiation messages per run (`weight_request` + `weights`):", ""]
-    lines += _table(stats["negotiation_messages"], teams, labels)
-    lines += [
+        *arm_tab(teams["negotiation_bytes"]),
+        "Negotiation messages per run (`weight_request` + `weights`):",
         "",
+        *arm_tab(teams["negotiation_messages"]),
         "Coordination bytes per run (every type but map sharing; `burgard`: `status` + `assign`):",
         "",
+        *arm_tab(teams["coordination_bytes"]),
+        "All bytes per run (with map sharing):",
+        "",
+        *arm_tab(teams["bytes_total"]),
     ]
-    lines += _table(stats["coordination_bytes"], teams, labels)
-    lines += ["", "All bytes per run (with map sharing):", ""]
-    lines += _table(stats["bytes_total"], teams, labels)
-    lines.append("")
-    path = _panels_figure(
-        stats["coordination_bytes"],
-        setups,
-        out / "coordination_bytes.png",
+    lines += figure(
+        teams["coordination_bytes"],
+        "coordination_bytes.png",
         "coordination bytes per run",
         "Coordination traffic (all but map sharing)",
-        arms_all,
-        log=True,
+        True,
     )
-    if path is not None:
-        lines += ["![coordination bytes](coordination_bytes.png)", ""]
-    largest = max((c[1] for c in cells), default=0)
+    largest = max((c[1] for c in values["time"]), default=0)
     bars: dict[str, dict[str, float]] = {}
-    for cell in cells:
-        if cell[1] != largest:
-            continue
-        for arm in arms_all:
-            runs_here = [n for n in numbers if (n.map_key, n.robots) == cell and n.arm == arm]
-            if not runs_here:
-                continue
-            types = sorted({t for n in runs_here for t in n.bytes_by_type})
-            bars[f"{cell[0]} {arm}"] = {
-                t: float(np.mean([n.bytes_by_type.get(t, 0.0) for n in runs_here])) for t in types
-            }
+    for cell in values["time"]:
+        for arm in arms if cell[1] == largest else ():
+            here = [
+                bytes_by_type(r)
+                for r in rows
+                if (map_key(r, quick), r["robots"]) == cell and arm_of(r) == arm
+            ]
+            types = sorted({t for by_type in here for t in by_type})
+            if here:
+                bars[f"{cell[0]} {arm}"] = {
+                    t: float(np.mean([b.get(t, 0.0) for b in here])) for t in types
+                }
     if bars:
         plot_bytes_by_type(
             bars,
@@ -831,15 +643,9 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         "",
         "Ours: mean group diameter (cells), mean (sd; 95% CI; n):",
         "",
+        *arm_tab(teams["diameter"], 1),
     ]
-    lines += _table(stats["diameter"], teams, labels, 1)
-    lines.append("")
-
-    lines += claims_section(CLAIMS, tables(stores, quick))
-    lines.append("")
-    path = out / "report.md"
-    path.write_text("\n".join(lines))
-    return path
+    return write_report(out, lines, CLAIMS, teams)
 
 
 REPRODUCTION = Reproduction(

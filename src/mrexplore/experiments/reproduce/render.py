@@ -1,0 +1,320 @@
+"""What every reproduction report is built from: experiments, per-run values, tables.
+
+A reproduction declares its experiments as :class:`Experiment` objects (a sweep's
+fixed settings, grid and seeds), reads its runs back with :func:`tabulate` (metric
+functions of a run row, grouped ``cell -> arm -> seed``: the
+:data:`~mrexplore.experiments.reproduce.claims.Values` its claims judge), and writes
+``report.md`` from the pieces here: :func:`report_head`, :func:`settings_table`,
+:func:`arm_table` (mean, sd, 95% CI and n per cell and arm), :func:`lines_figure`
+and :func:`write_report`, which ends every report with the claims' verdicts.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mrexplore.experiments.reproduce.claims import CellKey, Claim, Values, claims_section, fmt
+from mrexplore.experiments.stats import Summary, summarize_metric
+from mrexplore.experiments.store import Store
+from mrexplore.experiments.sweep import Sweep, sweep_from_dict
+
+Lines = list[str]
+Row = Mapping[str, Any]
+Metric = Callable[[Row], float]
+"""A number of one run, from its row of the ``runs`` table."""
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One sweep of a reproduction: fixed settings, a grid and the seeds.
+
+    >>> e = Experiment("a", {"map": "office", "strategy": "kme"}, {"robots": [2, 4]}, (1, 2))
+    >>> e.sweep("paper").name, len(e.sweep("paper").runs())
+    ('a', 4)
+    """
+
+    name: str
+    fixed: Mapping[str, Any]
+    grid: Mapping[str, Any] = field(default_factory=dict)
+    seeds: Sequence[int] = (1,)
+    curves_every: int | None = None
+
+    def sweep(self, source: str) -> Sweep:
+        head: dict[str, Any] = {"name": self.name, "seeds": list(self.seeds)}
+        if self.curves_every:
+            head["curves_every"] = self.curves_every
+        data = {"sweep": head, "fixed": dict(self.fixed), "grid": dict(self.grid)}
+        return sweep_from_dict(data, source=f"{source}:{self.name}")
+
+
+def sweeps_of(source: str, experiments: Iterable[Experiment]) -> dict[str, Sweep]:
+    """``experiment name -> sweep``, in the given order."""
+    return {e.name: e.sweep(source) for e in experiments}
+
+
+# ----------------------------------------------------------------- per-run values
+
+
+def number(row: Row, key: str) -> float:
+    """``row[key]`` as a float; ``0.0`` when missing or NaN (a count that never happened).
+
+    >>> number({"a": 3}, "a"), number({"a": None}, "a"), number({}, "a")
+    (3.0, 0.0, 0.0)
+    """
+    value = row.get(key)
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return 0.0
+    return float(value)
+
+
+def column(key: str) -> Metric:
+    """The metric that reads one column (missing counts as 0)."""
+    return lambda row: number(row, key)
+
+
+def bytes_of(types: Iterable[str], kind: str = "bytes") -> Metric:
+    """Bytes (or ``kind="messages"``) a run sent in messages of ``types``.
+
+    >>> bytes_of(["a", "b"])({"bytes_by_type_a": 3, "bytes_by_type_c": 5})
+    3.0
+    """
+    keys = [f"{kind}_by_type_{t}" for t in types]
+    return lambda row: sum(number(row, k) for k in keys)
+
+
+def bytes_by_type(row: Row) -> dict[str, float]:
+    """``message type -> bytes`` of one run (types it sent)."""
+    prefix = "bytes_by_type_"
+    return {
+        k[len(prefix) :]: number(row, k) for k in row if k.startswith(prefix) and number(row, k)
+    }
+
+
+def time_to(key: str) -> Metric:
+    """A time metric (``T99``, ...) or, for a run that never reached it, the run's
+    length (a lower bound); :func:`reached` tells which."""
+    return lambda row: float(row[key]) if row.get(key) is not None else float(row["ticks"])
+
+
+def reached(key: str) -> Metric:
+    return lambda row: float(row.get(key) is not None)
+
+
+def rows_of(stores: Mapping[str, Store]) -> tuple[list[dict[str, Any]], dict[str, int]]:
+    """Every run row of every store (``experiment`` added), without the failed runs,
+    and the number of runs by status (failed included)."""
+    rows: list[dict[str, Any]] = []
+    statuses: dict[str, int] = {}
+    for name, store in stores.items():
+        for row in store.query("SELECT * FROM runs ORDER BY run_id").to_pylist():
+            statuses[row["status"]] = statuses.get(row["status"], 0) + 1
+            if row["status"] != "failed":
+                rows.append({**row, "experiment": name})
+    return rows, dict(sorted(statuses.items()))
+
+
+def tabulate(
+    rows: Iterable[Row],
+    metrics: Mapping[str, Metric],
+    cell: Callable[[Row], CellKey | None],
+    arm: Callable[[Row], str],
+    order: Callable[[CellKey], Any] | None = None,
+) -> dict[str, dict[CellKey, dict[str, dict[int, float]]]]:
+    """``metric -> cell -> arm -> seed -> value``; rows whose ``cell`` is ``None`` are
+    left out; cells in ``order`` (default: first seen).
+
+    >>> rows = [{"robots": 2, "seed": s, "strategy": "a", "x": s} for s in (1, 2)]
+    >>> tabulate(rows, {"x": column("x")}, lambda r: (r["robots"],), lambda r: r["strategy"])
+    {'x': {(2,): {'a': {1: 1.0, 2: 2.0}}}}
+    """
+    out: dict[str, dict[CellKey, dict[str, dict[int, float]]]] = {m: {} for m in metrics}
+    for row in rows:
+        key = cell(row)
+        if key is None:
+            continue
+        name, seed = arm(row), int(row["seed"])
+        for metric, of in metrics.items():
+            out[metric].setdefault(key, {}).setdefault(name, {})[seed] = float(of(row))
+    if order is not None:
+        out = {m: {c: v[c] for c in sorted(v, key=order)} for m, v in out.items()}
+    return out
+
+
+def summaries(values: Values) -> dict[CellKey, dict[str, Summary]]:
+    """``cell -> arm ->`` mean, sd and 95% CI over the seeds."""
+    return {
+        c: {a: summarize_metric(list(s.values())) for a, s in arms.items()}
+        for c, arms in values.items()
+    }
+
+
+def arms_in(values: Values, order: Sequence[str]) -> list[str]:
+    """The arms of ``order`` that have values, in that order."""
+    present = {a for arms in values.values() for a in arms}
+    return [a for a in order if a in present]
+
+
+# ------------------------------------------------------------------------- Markdown
+
+
+def summary_cell(s: Summary | None, digits: int = 0, flag: str = "") -> str:
+    """``mean (sd; CI low..high; n)``.
+
+    >>> summary_cell(summarize_metric([1.0, 3.0]))
+    '2 (sd 1; CI -11..15; n 2)'
+    """
+    if s is None or s.n == 0:
+        return "-"
+    interval = f"{fmt(s.ci_low, digits)}..{fmt(s.ci_high, digits)}"
+    return f"{fmt(s.mean, digits)}{flag} (sd {fmt(s.sd, digits)}; CI {interval}; n {s.n})"
+
+
+def diff_cell(s: Summary, digits: int = 0) -> str:
+    """A paired difference: ``mean [low, high] (n)``."""
+    return f"{fmt(s.mean, digits)} [{fmt(s.ci_low, digits)}, {fmt(s.ci_high, digits)}] (n {s.n})"
+
+
+def table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Lines:
+    """A Markdown table."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return lines + ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+
+
+def arm_table(
+    values: Values,
+    arms: Sequence[str],
+    cell_columns: Sequence[str],
+    cell_label: Callable[[CellKey], Sequence[Any]] = lambda c: c,
+    digits: int = 0,
+    flags: Mapping[tuple[CellKey, str], str] | None = None,
+) -> Lines:
+    """One row per cell, one column per arm of ``arms`` that has values: mean (sd; CI; n)."""
+    shown = arms_in(values, arms)
+    stats = summaries(values)
+    rows = [
+        [*cell_label(c)]
+        + [summary_cell(stats[c].get(a), digits, (flags or {}).get((c, a), "")) for a in shown]
+        for c in values
+    ]
+    return table([*cell_columns, *(f"`{a}`" for a in shown)], rows)
+
+
+def settings_table(rows: Iterable[tuple[str, str, str]], notes: Sequence[str] = ()) -> Lines:
+    """The settings section: the paper's beside ours, then our choices where it is silent."""
+    lines = ["## Settings", "", *table(["setting", "paper", "ours"], rows), ""]
+    if notes:
+        lines += ["Choices where the paper is silent or our world differs:", ""]
+        lines += [f"- {note}" for note in notes] + [""]
+    return lines
+
+
+def report_head(
+    title: str, citation: str, statuses: Mapping[str, int], quick_note: str | None
+) -> Lines:
+    """Title, the quick-run warning, the citation and the runs by status."""
+    lines = [f"# Reproduction: {title}", ""]
+    if quick_note:
+        lines += [
+            f"> **Quick run** (`--quick`): {quick_note}. Its verdicts are indicative "
+            "only; run without `--quick` for the full settings.",
+            "",
+        ]
+    counts = ", ".join(f"{k} {v}" for k, v in statuses.items()) or "none"
+    written = f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: {counts}."
+    return [*lines, f"Citation: {citation}", "", written, ""]
+
+
+def write_report(
+    out: Path, lines: Lines, claims: Sequence[Claim], tables: Mapping[str, Values]
+) -> Path:
+    """``out/report.md``: ``lines``, then the verdict section of ``claims``."""
+    path = Path(out) / "report.md"
+    path.write_text("\n".join([*lines, *claims_section(claims, tables), ""]))
+    return path
+
+
+# -------------------------------------------------------------------------- figures
+
+
+def lines_figure(
+    panels: Mapping[str, Mapping[str, Mapping[Any, Summary]]],
+    path: Path,
+    *,
+    xlabel: str,
+    ylabel: str,
+    title: str,
+    colours: Mapping[str, str],
+    log: bool = False,
+) -> Path | None:
+    """One subplot per panel: mean against x, one line per arm, 95% CI bars, the
+    legend right of the panels. ``panels``: ``panel -> arm -> x -> summary``."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside
+
+    if not panels:
+        return None
+    fig = Figure(figsize=(3.6 * len(panels) + LEGEND_WIDTH_IN, 3.6), dpi=110, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    for ax, (panel, arms) in zip(axes, panels.items(), strict=True):
+        xs_all: set[Any] = set()
+        for i, (arm, points) in enumerate(arms.items()):
+            kept = [(x, s) for x, s in points.items() if math.isfinite(s.mean)]
+            kept = [(x, s) for x, s in kept if s.mean > 0] if log else kept
+            if not kept:
+                continue
+            xs_all |= {x for x, _ in kept}
+            xs = np.array([x for x, _ in kept], dtype=np.float64) + (i - len(arms) / 2) * 0.06
+            means = np.array([s.mean for _, s in kept])
+            below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
+            above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
+            if log:
+                below = np.minimum(below, means * 0.999)
+            ax.errorbar(
+                xs,
+                means,
+                yerr=np.vstack([below, above]),
+                color=colours.get(arm, "#000000"),
+                marker="o",
+                ms=4,
+                lw=1.3,
+                capsize=2,
+                label=arm,
+            )
+        if log:
+            ax.set_yscale("log")
+        ax.set_xticks(sorted(xs_all))
+        ax.set_xlabel(xlabel, fontsize=8)
+        ax.set_title(panel, fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, alpha=0.3)
+    figure_legend_outside(fig, axes, fontsize=7)
+    axes[0].set_ylabel(ylabel, fontsize=8)
+    fig.suptitle(f"{title}\n(mean over seeds, error bars: 95% CI)", fontsize=10)
+    fig.savefig(path, format="png")
+    return path
+
+
+def panels_of(
+    values: Values,
+    arms: Sequence[str],
+    panel: Callable[[CellKey], str] = lambda c: str(c[0]),
+    x: Callable[[CellKey], Any] = lambda c: c[-1],
+) -> dict[str, dict[str, dict[Any, Summary]]]:
+    """:func:`lines_figure` input: ``panel -> arm -> x -> summary``, arms in the
+    order of ``arms`` (the default panel: the cell's first key, x: its last)."""
+    out: dict[str, dict[str, dict[Any, Summary]]] = {}
+    for c, by_arm in summaries(values).items():
+        for a in arms:
+            if a in by_arm:
+                out.setdefault(panel(c), {}).setdefault(a, {})[x(c)] = by_arm[a]
+    return out
