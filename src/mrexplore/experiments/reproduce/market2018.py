@@ -648,13 +648,4 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     return write_report(out, lines, CLAIMS, teams)
 
 
-REPRODUCTION = Reproduction(
-    id=ID,
-    title=TITLE,
-    citation=CITATION,
-    sweeps=sweeps,
-    report=report,
-    claims=CLAIMS,
-    tables=tables,
-    interpretations=INTERPRETATIONS,
-)
+REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
