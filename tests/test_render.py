@@ -1,0 +1,136 @@
+"""The reproductions' shared report layer on hand-made rows and values."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from mrexplore.experiments.reproduce import render
+from mrexplore.experiments.reproduce.claims import Claim, Counted
+from mrexplore.experiments.stats import summarize_metric
+
+
+def _rows() -> list[dict[str, Any]]:
+    rows = []
+    for strategy, offset in (("a", 0.0), ("b", 10.0)):
+        for robots in (2, 4):
+            for seed in (1, 2, 3):
+                rows.append(
+                    {
+                        "strategy": strategy,
+                        "robots": robots,
+                        "seed": seed,
+                        "ticks": 100 + seed,
+                        "T99": None if (strategy, seed) == ("b", 3) else offset + robots + seed,
+                        "bytes_by_type_bid": 5 * seed,
+                        "bytes_by_type_map": 100,
+                        "messages_by_type_bid": seed,
+                    }
+                )
+    return rows
+
+
+def _values() -> dict[str, Any]:
+    metrics = {
+        "time": render.time_to("T99"),
+        "reached": render.reached("T99"),
+        "bid": render.bytes_of(["bid"]),
+        "bids": render.bytes_of(["bid"], "messages"),
+    }
+    return render.tabulate(
+        _rows(), metrics, lambda r: ("m", r["robots"]), lambda r: r["strategy"], lambda c: -c[1]
+    )
+
+
+def test_tabulate_reads_metric_functions_by_cell_arm_and_seed() -> None:
+    values = _values()
+    assert list(values["time"]) == [("m", 4), ("m", 2)]  # in the given order
+    assert values["time"][("m", 2)]["a"] == {1: 3.0, 2: 4.0, 3: 5.0}
+    assert values["time"][("m", 2)]["b"][3] == 103.0  # never reached: the run's length
+    assert values["reached"][("m", 2)]["b"] == {1: 1.0, 2: 1.0, 3: 0.0}
+    assert values["bid"][("m", 4)]["a"] == {1: 5.0, 2: 10.0, 3: 15.0}
+    assert values["bids"][("m", 4)]["b"][2] == 2.0
+    assert render.bytes_by_type(_rows()[0]) == {"bid": 5.0, "map": 100.0}
+    skipped = render.tabulate(_rows(), {"t": render.column("ticks")}, lambda r: None, str)
+    assert skipped == {"t": {}}
+
+
+def test_arm_table_renders_every_cell_with_flags() -> None:
+    values = _values()["time"]
+    lines = render.arm_table(
+        values, ["b", "a", "absent"], ["map", "robots"], digits=1, flags={(("m", 2), "b"): "*"}
+    )
+    assert lines[0] == "| map | robots | `b` | `a` |"
+    assert lines[1] == "|---|---|---|---|"
+    a2 = summarize_metric([3.0, 4.0, 5.0])
+    expected = f"4.0 (sd 1.0; CI {render.fmt(a2.ci_low, 1)}..{render.fmt(a2.ci_high, 1)}; n 3)"
+    assert lines[3].endswith(f"| {expected} |")
+    assert lines[3].startswith("| m | 2 | ") and "* (sd" in lines[3]
+    assert render.summary_cell(None) == "-"
+    assert render.diff_cell(summarize_metric([1.0, 1.0])) == "1 [1, 1] (n 2)"
+
+
+def test_settings_head_and_report(tmp_path: Path) -> None:
+    settings = render.settings_table([("robots", "2-8", "2, 4")], ["*Maps*: ours."])
+    assert settings[:4] == ["## Settings", "", "| setting | paper | ours |", "|---|---|---|"]
+    assert "| robots | 2-8 | 2, 4 |" in settings and "- *Maps*: ours." in settings
+    head = render.report_head("T", "C", {"complete": 3}, "2 seeds")
+    assert head[0] == "# Reproduction: T" and "**Quick run** (`--quick`): 2 seeds" in head[2]
+    assert "Runs: complete 3." in head[-2]
+    assert not any("Quick run" in line for line in render.report_head("T", "C", {}, None))
+    claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T99", "a", "b", Counted("<"))
+    path = render.write_report(tmp_path, [*head, *settings], [claim], {"time": _values()["time"]})
+    text = path.read_text()
+    assert path == tmp_path / "report.md" and "## Verdicts" in text
+    assert "- **reproduced**: §1: a is faster" in text  # a < b in both cells
+
+
+def test_experiment_builds_its_sweep() -> None:
+    experiment = render.Experiment(
+        "e", {"map": "office", "size": "30x30", "strategy": "kme"}, {"robots": [2, 3]}, (4, 5), 10
+    )
+    sweeps = render.sweeps_of("paper", [experiment])
+    assert list(sweeps) == ["e"]
+    runs = sweeps["e"].runs()
+    assert len(runs) == 4 and sweeps["e"].curves_every == 10
+
+
+def test_lines_figure_holds_its_data_and_the_legend_is_outside(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from matplotlib.figure import Figure
+
+    saved: list[Any] = []
+    monkeypatch.setattr(Figure, "savefig", lambda fig, path, **kw: saved.append(fig))
+    values = {
+        ("p", 2): {"a": {1: 1.0, 2: 3.0}, "b": {1: 1e5, 2: 2e5}},
+        ("p", 4): {"a": {1: 2.0, 2: 2.0}, "b": {1: 5e5, 2: 9e5}},
+        ("q", 2): {"a": {1: 0.0, 2: 0.0}},  # zero: not drawn on a log axis
+    }
+    for log in (False, True):
+        panels = render.panels_of(values, ["b", "a"])
+        assert list(panels["p"]) == ["b", "a"]
+        path = render.lines_figure(
+            panels, tmp_path / "f.png", xlabel="x", ylabel="y", title="T", colours={}, log=log
+        )
+        assert path == tmp_path / "f.png"
+    assert (
+        len(saved) == 2
+        and render.lines_figure({}, tmp_path / "g.png", xlabel="", ylabel="", title="", colours={})
+        is None
+    )
+    for fig in saved:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        legend = fig.legends[0].get_window_extent(renderer)
+        for ax in fig.axes:
+            low, high = ax.get_ylim()
+            for container in ax.containers:
+                for line in container.lines[2]:  # the error bars
+                    for segment in line.get_segments():
+                        ys = np.asarray(segment)[:, 1]
+                        assert low <= ys.min() and ys.max() <= high
+            assert legend.x0 >= ax.get_window_extent(renderer).x1
