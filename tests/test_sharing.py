@@ -77,3 +77,33 @@ def test_sheng_sync_sends_fewer_map_bytes_on_the_table_4_scenario() -> None:
 
     for seed in range(3):
         assert map_bytes("sheng-sync", seed) < 0.7 * map_bytes("full", seed)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_broadcast_relays_what_is_sensed_and_nothing_on_reconnection(seed: int) -> None:
+    """The two pairs were apart while sensing: within a pair they agree, across the
+    pairs nothing arrives when they meet (full sharing would exchange whole maps)."""
+    beliefs, sent = exchange("broadcast", seed)
+    _, full_sent = exchange("full", seed)
+    assert np.array_equal(beliefs[0], beliefs[1]) and np.array_equal(beliefs[2], beliefs[3])
+    only_second_pair = (beliefs[2] != UNKNOWN) & (beliefs[0] == UNKNOWN)
+    assert only_second_pair.sum() > 20
+    assert 0 < sent < full_sent
+
+
+def test_broadcast_sharing_runs_through_the_simulator_multi_hop() -> None:
+    """Through the simulator: map traffic is ``map_update`` only, and the run ends."""
+    record = simulate(
+        Scenario(
+            map="sheng40",
+            robots=3,
+            seed=1,
+            sensor_range=4,
+            comm_range=16,
+            start="together",
+            sharing="broadcast",
+            max_ticks=400,
+        )
+    )
+    assert set(record.bytes_by_type) == {"map_update"}
+    assert record.status == "complete"

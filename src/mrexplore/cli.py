@@ -178,8 +178,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--sharing",
-        help="map sharing: full | sheng-sync | polygon | none (default: the strategy's, "
-        "full for most)",
+        help="map sharing: broadcast | full | sheng-sync | polygon | none (default: the "
+        "strategy's, full for most)",
     )
     run.add_argument(
         "--share",

@@ -8,6 +8,7 @@ from mrexplore.comm.messages import Message
 from mrexplore.comm.models import CommModel, Network, Unlimited, make_network
 from mrexplore.comm.sharing import (
     SHARING,
+    BroadcastSharing,
     FullSharing,
     MapSharing,
     NoSharing,
@@ -20,6 +21,7 @@ __all__ = [
     "HEADER_BYTES",
     "SHARING",
     "AllLinks",
+    "BroadcastSharing",
     "ByteLedger",
     "Channel",
     "CommModel",

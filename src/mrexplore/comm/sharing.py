@@ -3,9 +3,14 @@
 A mechanism turns a robot's new observations into messages and merges received
 messages into a belief. It never sees ground truth.
 
-* ``full``: every new observation is broadcast to the sub-network as one
-  ``map_update`` message per robot per tick (5 bytes a cell plus the header);
-  a receiver writes the received cells it does not know yet.
+* ``broadcast``: every new observation is broadcast to the sub-network as one
+  ``map_update`` message per robot per tick (5 bytes a cell plus the header),
+  relayed hop by hop; a receiver writes the received cells it does not know yet.
+  Nothing else: robots that were apart when a cell was sensed never learn it from
+  each other (Vazquez & Malcolm §4: "each broadcasts its sensorial information every
+  half second. The information arrives by multi hops to all the members of the team").
+* ``full``: ``broadcast``, and when sub-networks join, the two robots of the new
+  link exchange their whole maps (Sheng's "without tracking").
 * ``none``: nothing is shared (for ablations).
 """
 
@@ -210,8 +215,40 @@ def joining_links(
     return joins
 
 
-class FullSharing(MapSharing):
-    """Broadcast every new observation; on a merge exchange whole explored maps.
+class BroadcastSharing(MapSharing):
+    """Broadcast every new observation to the sub-network, nothing more.
+
+    Vazquez & Malcolm §4: "each broadcasts its sensorial information every half second.
+    The information arrives by multi hops to all the members of the team". A robot
+    that was out of reach when a cell was broadcast never receives it: there is no
+    exchange when sub-networks join.
+    """
+
+    id = "broadcast"
+    message_types = frozenset({MAP_UPDATE})
+
+    def on_observe(
+        self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
+    ) -> list[Message]:
+        new = observation.was_unknown
+        if not new.any():
+            return []
+        payload = CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
+        size = cell_updates_size(int(payload.rows.size))
+        return [Message(MAP_UPDATE, robot, BROADCAST, size, payload, tick)]
+
+    def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
+        payload = message.payload
+        assert isinstance(payload, CellUpdates)
+        return merge_unknown(belief, payload)
+
+    def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
+        updates = [m.payload for m in messages]
+        return merge_many(belief, updates) if updates else 0
+
+
+class FullSharing(BroadcastSharing):
+    """``broadcast``; on a merge exchange whole explored maps.
 
     Sheng et al. §4's brute-force solution ("without tracking"): when a new link
     joins two sub-networks, its two robots send each other every cell they know
@@ -246,8 +283,7 @@ class FullSharing(MapSharing):
         return messages
 
     def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
-        updates = [m.payload for m in messages if m.type != MAP_FULL]
-        new = merge_many(belief, updates) if updates else 0
+        new = super().on_receive_all(robot, belief, [m for m in messages if m.type != MAP_FULL])
         for message in messages:
             if message.type != MAP_FULL:
                 continue
@@ -262,21 +298,6 @@ class FullSharing(MapSharing):
                     Message(MAP_MULTICAST, robot, BROADCAST, size, payload, recipients=others)
                 )
         return new
-
-    def on_observe(
-        self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
-    ) -> list[Message]:
-        new = observation.was_unknown
-        if not new.any():
-            return []
-        payload = CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
-        size = cell_updates_size(int(payload.rows.size))
-        return [Message(MAP_UPDATE, robot, BROADCAST, size, payload, tick)]
-
-    def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
-        payload = message.payload
-        assert isinstance(payload, CellUpdates)
-        return merge_unknown(belief, payload)
 
 
 class NoSharing(MapSharing):
@@ -293,7 +314,11 @@ class NoSharing(MapSharing):
         return 0
 
 
-SHARING: dict[str, Callable[..., MapSharing]] = {"full": FullSharing, "none": NoSharing}
+SHARING: dict[str, Callable[..., MapSharing]] = {
+    "broadcast": BroadcastSharing,
+    "full": FullSharing,
+    "none": NoSharing,
+}
 """Registry of sharing mechanisms; ``mrexplore.comm`` adds the ones in their own modules."""
 
 

@@ -42,7 +42,7 @@ ROBOT_BYTES_PER_CELL = 1 + 1
 #: ``robot_first_known`` (int32 per robot and cell), when the run records it.
 RECORDED_BELIEF_BYTES_PER_CELL = 4
 #: The copy of each belief kept to find changed cells (int8), when ``robot_first_known``
-#: is recorded with a sharing mechanism other than ``full`` / ``none``.
+#: is recorded with a sharing mechanism other than ``broadcast`` / ``full`` / ``none``.
 BELIEF_SHADOW_BYTES_PER_CELL = 1
 #: One distance field (``planning.distance_field``: float64 distances, uint8 states,
 #: 3 x int32 buckets) plus the boolean masks (passable, frontier, targets) around it.
@@ -183,7 +183,7 @@ def estimate_run_bytes(
     per_robot = ROBOT_BYTES_PER_CELL
     if record_beliefs:
         per_robot += RECORDED_BELIEF_BYTES_PER_CELL
-        if sharing not in ("full", "none"):
+        if sharing not in ("broadcast", "full", "none"):
             per_robot += BELIEF_SHADOW_BYTES_PER_CELL
     per_robot += STRATEGY_ROBOT_BYTES_PER_CELL.get(strategy, 0)
     per_robot += SHARING_ROBOT_BYTES_PER_CELL.get(sharing, 0)

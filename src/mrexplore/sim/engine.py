@@ -35,7 +35,13 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore.comm import CommModel, MapSharing, Message, make_network, make_sharing
-from mrexplore.comm.sharing import CellUpdates, FullSharing, NoSharing, Observation
+from mrexplore.comm.sharing import (
+    BroadcastSharing,
+    CellUpdates,
+    FullSharing,
+    NoSharing,
+    Observation,
+)
 from mrexplore.errors import StrategyError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, BeliefGrid, new_belief
 from mrexplore.planning import distance_field, extract_path
@@ -231,7 +237,11 @@ class Simulation:
         # (the tick is the same as at the record). Any other mechanism may write
         # anywhere: then each record compares the belief with a copy of it from the
         # previous record, eight cells at a time.
-        self._stamp_direct = record_beliefs and type(self.sharing) in (FullSharing, NoSharing)
+        self._stamp_direct = record_beliefs and type(self.sharing) in (
+            BroadcastSharing,
+            FullSharing,
+            NoSharing,
+        )
         self._belief_shadow = (
             # rows padded to whole 8-byte words so that every row is word-aligned
             np.full((n, -(-shape[0] * shape[1] // 8) * 8), UNKNOWN, dtype=np.int8)
