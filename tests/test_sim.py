@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -153,3 +155,61 @@ def test_real_maps_complete_with_a_valid_trace(name: str, options: dict[str, obj
     record = simulate(scenario)
     assert record.status == "complete"
     assert check_trace(record.trace_arrays(), record.result()) == []
+
+
+@pytest.mark.parametrize("sharing", ["broadcast", "full", "none"])
+def test_robot_completion_matches_each_robots_own_knowledge(sharing: str) -> None:
+    """robot_complete[i] is the last tick at which robot i's own first_known stamps an
+    explorable cell, or -1 if it never held them all; T100_first_robot is the first."""
+    for complete_when in ("team", "robot"):
+        scenario = Scenario(
+            map="office",
+            size=(40, 40),
+            robots=3,
+            seed=2,
+            sensor_range=4,
+            comm_range=12,
+            coverage_threshold=1.0,
+            sharing=sharing,
+            complete_when=complete_when,
+            max_ticks=3000,
+        )
+        record = simulate(scenario)
+        trace, result = record.trace_arrays(), record.result()
+        assert check_trace(trace, result) == []
+        explorable = trace["explorable"]
+        for robot in range(3):
+            own = trace["robot_first_known"][robot][explorable]
+            expected = int(own.max()) if (own >= 0).all() else -1
+            assert trace["robot_complete"][robot] == expected
+        done = [t for t in result["T100_by_robot"] if t is not None]
+        assert result["T100_first_robot"] == (min(done) if done else None)
+        if complete_when == "robot" and record.status == "complete":
+            assert result["T100_first_robot"] == record.ticks
+            assert result["T100"] is not None and result["T100"] <= record.ticks
+        if complete_when == "team":
+            assert record.status == "complete" and result["T100"] == record.ticks
+
+
+def test_robot_completion_waits_for_one_robot_to_hold_the_map() -> None:
+    """With broadcast sharing and a short range, the team's union completes well before
+    any one robot holds the whole map; complete_when=robot runs on until one does."""
+    base = dict(map="office", size=(60, 60), robots=4, seed=1, sensor_range=4.5,
+                comm_range=20, coverage_threshold=1.0, sharing="broadcast")  # fmt: skip
+    team = simulate(Scenario(**base)).result()
+    robot = simulate(Scenario(**base, complete_when="robot")).result()
+    assert team["status"] == robot["status"] == "complete"
+    assert team["T100"] == robot["T100"] < robot["T100_first_robot"] == robot["ticks"]
+    with pytest.raises(ScenarioError, match="--complete-when all: choose team"):
+        Scenario(complete_when="all").validate()
+
+
+def test_the_run_id_of_a_default_scenario_leaves_later_fields_out() -> None:
+    """Runs stored before complete_when existed keep their ids (and resume)."""
+    from mrexplore.experiments.sweep import scenario_id
+
+    scenario = Scenario(map="office", size=(30, 30), robots=2, seed=3)
+    assert scenario_id(scenario) != scenario_id(
+        dataclasses.replace(scenario, complete_when="robot")
+    )
+    assert scenario_id(scenario) == "f1f0292222cded5e"  # its id before complete_when existed

@@ -86,6 +86,20 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
             problems.append(
                 f"cell ({r}, {c}) became known at tick {tick} out of every robot's sight"
             )
+    if "robot_complete" in trace and "robot_first_known" in trace:
+        explorable = np.asarray(trace["explorable"], dtype=bool)
+        for robot, done in enumerate(np.asarray(trace["robot_complete"])):
+            own = np.asarray(trace["robot_first_known"][robot])[explorable]
+            held = (own >= 0).all() and own.size > 0
+            # a belief may forget cells (polygon sharing): only a completion the robot's
+            # first_known cannot have reached is a violation
+            if done >= 0 and held and int(own.max()) > done:
+                problems.append(
+                    f"robot {robot} held the whole map at tick {done}, but its own first_known "
+                    f"reaches tick {int(own.max())}"
+                )
+            if done < 0 and held:
+                problems.append(f"robot {robot} held the whole map but robot_complete is -1")
     if result is not None:
         expected = json_safe(summarize(dict(trace)))
         for key, value in expected.items():

@@ -196,6 +196,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="share of explorable cells in (0, 1] that completes the run (default: 0.99)",
     )
     run.add_argument(
+        "--complete-when",
+        choices=("team", "robot"),
+        default="team",
+        help="team: the team's union of beliefs reaches the coverage threshold; robot: some "
+        "robot's own belief holds every explorable cell (default: team)",
+    )
+    run.add_argument(
         "--stall-ticks",
         type=_positive_int("--stall-ticks"),
         help="ticks without new team knowledge that end the run as stalled "
@@ -398,6 +405,7 @@ def _scenario_from_args(args: argparse.Namespace) -> Any:
         failure_rate=args.failure_rate,
         **_comm_settings(args),
         coverage_threshold=args.coverage_threshold,
+        complete_when=args.complete_when,
         stall_ticks=args.stall_ticks,
         idle_ticks=args.idle_ticks,
         patience=args.patience,

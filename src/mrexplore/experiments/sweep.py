@@ -158,12 +158,21 @@ def validate_scenario(scenario: Scenario) -> None:
     make_sharing(sharing, **scenario.sharing_params)
 
 
+#: Scenario fields added after runs were first stored, with their defaults: at the
+#: default they are left out of the id, so the ids of earlier runs (and ``--resume``
+#: of their sweeps) stay valid.
+LATER_FIELDS: dict[str, Any] = {"complete_when": "team"}
+
+
 def scenario_id(scenario: Scenario) -> str:
     """A stable id of a scenario: 16 hex digits of the SHA-256 of its canonical JSON.
 
     Equal scenarios (and so equal runs) have equal ids, in every process.
     """
-    canonical = json.dumps(_jsonable(scenario.to_dict()), sort_keys=True, separators=(",", ":"))
+    data = {
+        k: v for k, v in scenario.to_dict().items() if k not in LATER_FIELDS or v != LATER_FIELDS[k]
+    }
+    canonical = json.dumps(_jsonable(data), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()[:16]
 
 

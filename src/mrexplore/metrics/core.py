@@ -72,6 +72,11 @@ def summarize(trace: dict[str, Any]) -> dict[str, Any]:
         "wtv_8_final": final_wtv(trace, 8),  # Wu, Puig & Garcia eq. (10), ticks²
         "epv_8_final": final_epv(trace, 8),  # Wu, Puig & Garcia §V.B, percent²
     }
+    robot_complete = trace.get("robot_complete")
+    if robot_complete is not None:  # the first tick each robot held the whole map itself
+        ticks = [int(t) if t >= 0 else None for t in np.asarray(robot_complete)]
+        metrics["T100_by_robot"] = ticks
+        metrics["T100_first_robot"] = min((t for t in ticks if t is not None), default=None)
     if sensed_by_robot is not None:
         cells = np.asarray(sensed_by_robot, dtype=np.float64)
         mean = cells.mean()

@@ -168,6 +168,18 @@ def _stamp_cells(
             robot_known[i] = tick
 
 
+@numba.njit(cache=True, nogil=True)
+def _first_unknown(
+    belief: npt.NDArray[np.int8], cells: npt.NDArray[np.int64], start: int
+) -> int:  # pragma: no cover - compiled
+    """The first position ``k >= start`` with ``belief[cells[k]]`` unknown, or
+    ``len(cells)`` when there is none."""
+    k = start
+    while k < cells.shape[0] and belief[cells[k]] != -1:
+        k += 1
+    return k
+
+
 Decider = Callable[[int, RobotView], Decision]
 """``decide(robot_id, view) -> Decision``: replaces the strategies in :meth:`Simulation.step`."""
 
@@ -258,6 +270,11 @@ class Simulation:
         self._last_visible: list[tuple[Cell, npt.NDArray[np.int64]] | None] = [None] * n
         self.n_explorable = self.world.n_explorable
         self.known_explorable = 0
+        # Per robot: the first tick its own belief held every explorable cell (-1: not
+        # yet), found by a scan over the explorable cells that resumes where it stopped.
+        self._explorable_cells = np.flatnonzero(self._explorable_flat).astype(np.int64)
+        self._robot_scan = np.zeros(n, dtype=np.int64)
+        self.robot_complete = np.full(n, -1, dtype=np.int32)
         self.stall_ticks = (
             scenario.stall_ticks
             if scenario.stall_ticks is not None
@@ -643,9 +660,9 @@ class Simulation:
         self._sense(0)
         self.comm.flush(0)
         self._record(0)
-        self._last_progress_tick, self._last_known = 0, self.known_explorable
+        self._last_progress_tick, self._last_known = 0, self._progress()
         self._idle_streak = 0
-        if self.known_explorable >= self._target:
+        if self._complete():
             self.status = "complete"
         elif self.max_ticks <= 0:
             self.status = "max_ticks"
@@ -676,10 +693,11 @@ class Simulation:
         return self.status
 
     def _check_end(self, tick: int) -> str | None:
-        if self.known_explorable >= self._target:
+        if self._complete():
             return "complete"
-        if self.known_explorable > self._last_known:
-            self._last_known, self._last_progress_tick = self.known_explorable, tick
+        progress = self._progress()
+        if progress > self._last_known:
+            self._last_known, self._last_progress_tick = progress, tick
         elif tick - self._last_progress_tick >= self.stall_ticks:
             return "stalled"
         if not any(r.alive for r in self.robots):
@@ -729,6 +747,37 @@ class Simulation:
             np.array([r.goal if r.goal else (-1, -1) for r in self.robots], dtype=np.int32)
         )
         self._known_log.append(self.known_explorable)
+        self._check_robots_complete(tick)
+
+    def _check_robots_complete(self, tick: int) -> None:
+        """Stamp :attr:`robot_complete` for robots whose belief now holds every
+        explorable cell. Beliefs mostly only gain cells, so each robot's scan resumes
+        at the first cell it found unknown; a scan that reaches the end is checked
+        over every cell (a mechanism such as ``polygon`` may forget cells)."""
+        cells = self._explorable_cells
+        for robot in self.robots:
+            i = robot.id
+            if self.robot_complete[i] >= 0 or not robot.alive:
+                continue
+            belief = robot.belief.reshape(-1)
+            self._robot_scan[i] = _first_unknown(belief, cells, int(self._robot_scan[i]))
+            if self._robot_scan[i] < cells.size:
+                continue
+            self._robot_scan[i] = _first_unknown(belief, cells, 0)
+            if self._robot_scan[i] == cells.size:
+                self.robot_complete[i] = tick
+
+    def _complete(self) -> bool:
+        if self.scenario.complete_when == "robot":
+            return bool((self.robot_complete >= 0).any())
+        return self.known_explorable >= self._target
+
+    def _progress(self) -> int:
+        """What must grow for the run not to stall: the team's known explorable cells
+        (and, when a robot's map completes the run, how far the robots' scans got)."""
+        if self.scenario.complete_when == "robot":
+            return self.known_explorable + int(self._robot_scan.sum())
+        return self.known_explorable
 
     def run(self, progress: Callable[[int, float], None] | None = None) -> RunRecord:
         """Run to completion, ``max_ticks`` or a stall; return the run record."""
@@ -759,6 +808,7 @@ class Simulation:
             distance=np.stack(self._distance_log),
             goals=np.stack(self._goals_log),
             known_explorable=np.asarray(self._known_log, dtype=np.int64),
+            robot_complete=self.robot_complete.copy(),
             first_known=self.first_known,
             sense_count=self.sense_count,
             sensed_by_robot=np.array([int(r.sensed.sum()) for r in self.robots], dtype=np.int64),

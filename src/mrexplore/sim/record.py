@@ -16,6 +16,8 @@ goals             T+1 x N x 2 int32   each robot's goal after the tick, -1 none
 sense_count       H x W uint16        how many robots sensed the cell
 sensed_by_robot   N int64             cells each robot sensed itself
 known_explorable  T+1 int64           explorable cells known to the team
+robot_complete    N int32             first tick robot i's own belief held every
+                                      explorable cell, -1 never
 coverage          T+1 float64         known_explorable / explorable cells
 bytes_per_tick    T+1 int64           bytes sent at each tick
 bytes_by_robot    N int64             bytes sent by each robot
@@ -31,8 +33,8 @@ robot_first_known N x H x W int32     first tick robot i knew the cell, -1 never
 ================  ==================  ==============================================
 
 The last three arrays feed the animations and the HTML replay (:mod:`mrexplore.viz`);
-traces written before they existed lack them, and every reader treats them as
-optional (:func:`load_trace` loads any ``trace.npz``).
+traces written before they existed lack them (and ``robot_complete``), and every
+reader treats them as optional (:func:`load_trace` loads any ``trace.npz``).
 
 * ``component[t, i]`` is the index of robot ``i``'s sub-network in the list of
   connected components of the link graph in force during tick ``t`` (components
@@ -73,7 +75,7 @@ from mrexplore.sim.world import World
 BELIEF_CELLS_AUTO = 2**23
 
 #: Arrays that traces written by older versions lack.
-OPTIONAL_TRACE_ARRAYS = ("component", "link_bits", "robot_first_known")
+OPTIONAL_TRACE_ARRAYS = ("component", "link_bits", "robot_first_known", "robot_complete")
 
 
 def n_link_pairs(n_robots: int) -> int:
@@ -223,6 +225,7 @@ class RunRecord:
     component: npt.NDArray[np.int16] | None = None
     link_bits: npt.NDArray[np.uint8] | None = None
     robot_first_known: npt.NDArray[np.int32] | None = None
+    robot_complete: npt.NDArray[np.int32] | None = None
     field_decisions: int = 0
     """Decide calls that computed at least one distance field (benchmarks only)."""
     fields: int = 0

@@ -23,6 +23,9 @@ MAX_ROBOTS = 10_000
 """Largest team :meth:`Scenario.validate` accepts (every robot holds a belief of the whole
 map; the map's free cells bound the team again when the world is built)."""
 SENSING_MODES = ("moving", "arrival")
+#: What completes a run: the team's union of beliefs reaching ``coverage_threshold``,
+#: or one robot's own belief holding every explorable cell.
+COMPLETE_WHEN = ("team", "robot")
 
 _LENGTH = re.compile(r"^\s*(-?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(m|cells?)?\s*$")
 
@@ -66,6 +69,9 @@ class Scenario:
             for most, ``polygon`` for ``meier-polygon``).
         sharing_params: parameters of the sharing mechanism (``--share key=value``).
         coverage_threshold: share of explorable cells that completes the run.
+        complete_when: ``"team"`` (default: the team's union of beliefs reaches
+            ``coverage_threshold``) or ``"robot"`` (some live robot's own belief holds
+            every explorable cell, whatever the threshold).
         stall_ticks: ticks without any new team knowledge that end the run as
             ``stalled``; ``None`` = 1.5 x explorable cells / speed + 100.
         idle_ticks: ticks with every robot idle and nothing in flight that end the run
@@ -96,6 +102,7 @@ class Scenario:
     sharing: str | None = None
     sharing_params: dict[str, Any] = field(default_factory=dict)
     coverage_threshold: float = 0.99
+    complete_when: str = "team"
     stall_ticks: int | None = None
     idle_ticks: int = 10
     patience: int = 3
@@ -136,6 +143,11 @@ class Scenario:
         if not 0 < self.coverage_threshold <= 1:
             raise ScenarioError(
                 f"--coverage-threshold {self.coverage_threshold}: must be in (0, 1]"
+            )
+        if self.complete_when not in COMPLETE_WHEN:
+            raise ScenarioError(
+                f"--complete-when {self.complete_when}: choose team (the team's union of "
+                "beliefs reaches the coverage threshold) or robot (one robot holds the whole map)"
             )
         if self.sensing not in SENSING_MODES:
             raise ScenarioError(f"--sensing {self.sensing}: choose one of {SENSING_MODES}")
