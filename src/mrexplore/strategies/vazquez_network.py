@@ -9,7 +9,9 @@ What is implemented (paper section -> code):
 * §3: every robot broadcasts its position and its current heading (the frontier it
   selected) to its sub-network (messages ``position`` every ``position_period``
   ticks and ``target`` on every new choice); maps travel through the run's
-  map-sharing mechanism ("sensorial information", ``full`` by default). "Based on
+  map-sharing mechanism ("sensorial information"; by default ``broadcast``, §4:
+  "The information arrives by multi hops to all the members of the team", with no
+  exchange of whole maps when sub-networks join). "Based on
   this periodic information the robots are able to identify the topology": here
   the topology of the sub-network is ``view.links``.
 * §3.1.1 bridge detection: the graph of the sub-network (vertices = robots,
@@ -22,62 +24,86 @@ What is implemented (paper section -> code):
 * §3.2 exploration (after Simmons et al. 2000): frontier cells; the travel cost
   ``C(f)`` of every frontier from one flood fill (:func:`~mrexplore.planning.distance_field`);
   the utility ``U(f)`` = unknown cells within the sensor range of ``f``, lessened
-  by the cells other robots are expected to sense around the destinations they
-  announced (:func:`utility`, :func:`exclusion_mask`); each robot takes the
+  "if there are any robots near that destination": cells within ``R`` of other
+  robots' announced destinations and reported positions are not counted
+  (:func:`utility`, :func:`exclusion_mask`); ``U`` in ticks of sensing,
+  ``U / (2R + 1)``, so that it compares with ``C`` in ticks; each robot takes the
   frontier of best ``U(f) - w C(f)`` (:func:`net_value`) for itself
   (decentralised); the path walks the cost field downhill
-  (:func:`~mrexplore.planning.extract_path`).
-* §3.3 and Figure 2, behaviour selection (:func:`select_behaviour`):
+  (:func:`~mrexplore.planning.extract_path`). A frontier given up for a constraint
+  is left to the others ("the frontier may be selected by another robot").
+* §3.1 and §3.3, Figure 2, behaviour selection (:func:`select_behaviour`). A bridge
+  neighbour constrains only while its signal strength is below ``1 / d2^2`` (it is
+  farther than ``d2``; §3.1: "only if they constitute a solitary bridge connection
+  ... and if the signal strength ... falls below a threshold"), and for
+  ``constraint_memory`` ticks after the two are back within ``d2`` (§3.3.1: "once
+  the robot achieves the connection status it constrains future plans").
 
-  - **achieve-connectivity** when a constrained neighbour's signal strength falls
-    below ``1 / d2^2`` (it is farther than ``d2``) or it was lost altogether:
-    search frontiers inside the comfort zone, else move towards the neighbour
-    (§3.3.1), or back to where it was last heard of;
+  - **achieve-connectivity** when a constraining neighbour is farther than ``d2``
+    or was lost altogether: search frontiers inside the comfort zone, else move
+    towards the neighbour (§3.3.1), or back to where it was last heard of;
   - **avoid-collision** when a robot is closer than the collision distance ``d1``:
     robots that close are static obstacles in the planning space (the paper's
     potential-field planner after Warren 1990, §3.3.2); a moving robot re-plans
     its path to the same goal when one of them stands on the path ahead
     (:func:`route_around`);
-  - **maintain-connectivity** otherwise: explore, with the search constrained to
-    the comfort zone of every bridge neighbour (§3.1.2 last paragraph).
+  - **maintain-connectivity** otherwise: explore as in §3.2 ("otherwise the
+    algorithm is executed as explained in Section 3.2").
 
-  A change into or out of achieve-connectivity makes the robot re-evaluate its
-  plan (Figure 2: "when a change in behaviour is detected the robot will
-  reevaluate its current plan"); otherwise it plans on arriving
-  (``P(x, y) = f(x, y)``), when blocked, when its frontier is explored, or by
-  the re-planning rules of :data:`REPLAN_PARAMS`.
+  Any change of behaviour makes the robot re-evaluate its plan (Figure 2: "when a
+  change in behaviour is detected the robot will reevaluate its current plan");
+  otherwise it plans on arriving (``P(x, y) = f(x, y)``), when blocked, or by the
+  re-planning rules of :data:`REPLAN_PARAMS` (re-planning when the frontier has
+  been explored is off by default: the paper re-plans on arrival).
 
 Parameters:
 
-=========================  ======  =======  =====  ==============================================
-name                       symbol  default  unit   meaning
-=========================  ======  =======  =====  ==============================================
-``comm_range``             d3      0        cells  communication range; 0 = the run's
-                                                   ``--comm-range`` in cells; inf = the network
-                                                   cannot break, no constraints
-``d2_fraction``            d2      0.9      -      preventive constraint ``d2 = 0.9 d3``
-``d1_sensor_diameters``    d1      1.5      -      collision constraint in sensor diameters,
-                                                   ``d1 = 1.5 x 2 R``
-``d1_max_fraction``        -       0.75     -      cap ``d1 <= 0.75 d2`` (comfort zone never
-                                                   empty; see interpretations)
-``cost_weight``            w       1.0      -      weight of the travel cost in ``U - w C``
-                                                   (both in cells)
-``line_of_sight``          -       False    -      count only unknown cells in line of sight
-                                                   (in the belief) in ``U``
-``position_period``        k       2        ticks  broadcast the position every k ticks
-``follow_distance``        -       2.0      cells  how close a robot moving towards a neighbour
-                                                   (or its last known cell) gets
-``reconnect_timeout``      -       0        ticks  give up going back to a lost neighbour;
-                                                   0 = ``4 d3 / speed`` ticks, at least 50
-``constraint_memory``      -       0        ticks  keep a neighbour's comfort zone this long
-                                                   after its link stopped being a bridge or
-                                                   after reconnecting; 0 = as above
-``zone_includes_targets``  -       True     -      also keep the destination in the comfort
-                                                   zone of each neighbour's announced destination
-``resolve_conflicts``      -       True     -      re-plan when a lower id announces a
-                                                   destination within ``R`` of one's own
-``replan_*``               -                       see :data:`REPLAN_PARAMS`
-=========================  ======  =======  =====  ==============================================
+=========================  ======  ==========  =====  ==========================================
+name                       symbol  default     unit   meaning
+=========================  ======  ==========  =====  ==========================================
+``comm_range``             d3      0           cells  communication range; 0 = the run's
+                                                      ``--comm-range`` in cells; inf = the
+                                                      network cannot break, no constraints
+``d2_fraction``            d2      0.9         -      preventive constraint ``d2 = 0.9 d3``
+``d1_sensor_diameters``    d1      1.5         -      collision constraint in sensor diameters,
+                                                      ``d1 = 1.5 x 2 R``
+``d1_max_fraction``        -       0.75        -      cap ``d1 <= 0.75 d2`` (comfort zone never
+                                                      empty; see interpretations)
+``cost_weight``            w       1.0         -      weight of the travel cost in ``U - w C``
+``utility_unit``           -       ticks       -      ``U`` as ``U / (2R + 1)`` ticks, or cells
+``discount_around``        -       both        -      ``U`` leaves out cells near other robots'
+                                                      destinations, positions, or both
+``line_of_sight``          -       False       -      count only unknown cells in line of sight
+                                                      (in the belief) in ``U``
+``position_period``        k       2           ticks  broadcast the position every k ticks
+``constrain_bridges``      -       stretched   -      bridge neighbours constrain when farther
+                                                      than d2 (stretched) or always
+``constraint_memory``      -       0           ticks  keep a neighbour constraining after the
+                                                      pair is back within d2 (always: after
+                                                      its link stopped being a bridge); 0 =
+                                                      ``memory_ranges x d3 / speed``, >= 10
+``memory_ranges``          -       1.0         d3     the default memory in ranges of travel
+``zone_between_pair``      -       True        -      a stretched pair searches within d2 of
+                                                      both robots ("between the pair")
+``no_frontier_rule``       -       approach    -      no frontier in the zone: approach the
+                                                      stretched neighbour (else the lowest id
+                                                      explores, the others go with it), or
+                                                      convoy (by hops to the root)
+``follow_distance``        -       2.0         cells  how close a convoy follower, or a robot
+                                                      returning to a lost neighbour, gets
+``reconnect_timeout``      -       0           ticks  give up going back to a lost neighbour;
+                                                      0 = ``4 d3 / speed`` ticks, at least 50
+``abort_memory``           -       0           ticks  leave a frontier given up for a
+                                                      constraint to the others; 0 = as above
+``zone_includes_targets``  -       False       -      also keep the destination in the comfort
+                                                      zone of each neighbour's destination
+``resolve_conflicts``      -       True        -      re-plan when a lower id announces a
+                                                      destination within ``R`` of one's own
+``replan_on_behaviour``    -       any         -      re-plan on any change of behaviour, or
+                                                      only into and out of achieve-connectivity
+``replan_*``               -                          see :data:`REPLAN_PARAMS`;
+                                                      ``replan_on_target_explored`` False
+=========================  ======  ==========  =====  ==========================================
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`, each a broadcast to the sub-network):
 
@@ -122,29 +148,38 @@ Interpretations (where the paper is silent or does not fit a grid world):
   as if they were gone). Re-routing an ongoing path happens when such a robot
   stands on the next ``d1`` cells of it; if they cut the goal off, the robot keeps
   its path (the simulator still keeps two robots out of one cell).
-* **Which neighbours constrain.** A pair constrains each other only across a
-  bridge (§3.1: "only if they constitute a solitary bridge connection"). A
-  neighbour also keeps constraining for ``constraint_memory`` ticks after its link
-  stopped being a bridge, and after the two reconnected (§3.3.1: "once the robot
-  achieves the connection status it constrains future plans in order to avoid
-  being caught in the same situation"). Without this memory, a link flickering
-  at the edge of the range turns the constraint on and off every tick, and a
-  cycle whose links all stretch at once (no bridge) breaks apart.
+* **Which neighbours constrain.** §3.1 sets two conditions: the link is a bridge
+  *and* the signal is below the threshold. ``constrain_bridges=stretched`` (default)
+  reads them together: a bridge neighbour constrains while it is farther than
+  ``d2``, and for ``constraint_memory`` ticks after the pair is back within ``d2``
+  or reconnected (§3.3.1 "constrains future plans"). ``always`` (the earlier
+  reading) constrains every bridge neighbour all the time, and keeps a neighbour
+  constraining for ``constraint_memory`` ticks after its link stopped being a
+  bridge. The memory is not given in the paper; by default it lasts the time to
+  travel one range (``memory_ranges = 1``), the scale at which the pair could be
+  stretched again.
 * **The constrained search.** For a constrained robot, the frontier search and
   its paths are limited to cells within ``d2`` of every constraining neighbour's
   reported position (the comfort zone as a configuration space, Figure 1), and
   the chosen frontier must lie in each neighbour's comfort zone (beyond ``d1``).
-  With ``zone_includes_targets`` (default) the destination must also be in the
-  comfort zone of each neighbour's announced destination, so the two are also in
-  range when both arrive. Without it two robots whose last frontiers lay farther
-  apart than ``d3`` swapped destinations forever (each took the frontier near the
-  other's position; 3 of 10 two-robot runs on a 122 x 122 office never finished).
-* **No frontier inside the comfort zone.** §3.3.1 says the robot then "computes a
-  path to the current position of the other robot". If every constrained robot
-  did that when all frontiers are far away, the team would gather and stall. We
-  orient each constraint towards the lowest id of the sub-network (the *root*, by
-  hop distance, then id; :func:`orient`): the endpoint nearer the root *leads*.
-  A robot with no frontier in its zone
+  ``zone_includes_targets`` (ours, off by default) also requires the comfort zone
+  of each neighbour's announced destination. While the pair is stretched the search
+  is "constrained to the comfort zone between the pair of robots" (§3.3.1): the
+  cells within ``d2`` of both (``zone_between_pair``, default); searching around the
+  other robot only (the earlier reading) lets the two take the frontiers near each
+  other and swap sides forever when their last frontiers lie farther apart than
+  ``d3``.
+* **No frontier inside the comfort zone.** §3.3.1: "When no frontier cells are
+  found the robot computes a path to the current position of the other robot in
+  the bridge connection" (``no_frontier_rule=approach``, default): towards the
+  farthest constraining neighbour beyond ``d2``, stopping in mid-zone
+  ``(d1 + d2) / 2``. When every constraining neighbour is within ``d2`` (only the
+  memory, or ``always``), the paper gives no rule; the robot with the lowest id
+  explores, its path cut to stay within ``d2`` of the others, and the others go
+  with it (to mid-zone from it). ``convoy`` (the earlier reading) orients each
+  constraint towards the lowest id of the sub-network (the *root*, by hop
+  distance, then id; :func:`orient`): the endpoint nearer the root *leads*. A
+  robot with no frontier in its zone
 
   - moves towards a leading neighbour that is farther than ``d2``
     (achieve-connectivity), stopping in mid-zone ``(d1 + d2) / 2``;
@@ -153,9 +188,15 @@ Interpretations (where the paper is silent or does not fit a grid world):
   - else (it leads all its constraints) heads for its best frontier anyway, but
     only as far as its path stays within ``d2`` of every follower; if it cannot
     move it holds until the next position update.
-
-  Followers catch up, the leader advances again: a connected team moves as a
-  convoy behind its root. The paper gives no rule for this case.
+* **Aborted frontiers.** A robot that gives up its frontier because a constraint
+  starts (into achieve-connectivity, or a neighbour lost) or because a robot blocks
+  its way (the simulator stopped it: avoid-collision's constraint) leaves that frontier,
+  and the cells within ``R`` of it, to the others for ``abort_memory`` ticks (§3.2:
+  "robots may abort the plan to explore a frontier due to constraints, in such
+  case the frontier may be selected by another robot"). Without it two
+  constrained robots can pick, abort and pick again the same two frontiers
+  forever (a livelock we observed with every combination of the rules above), and
+  two robots that took each other's side of a corridor keep blocking each other.
 * **Disconnection.** A robot whose former direct neighbour is no longer in its
   sub-network (their link was a bridge and broke) switches to achieve-connectivity
   and goes back to that neighbour's last reported cell, reconnecting on the way if
@@ -164,13 +205,18 @@ Interpretations (where the paper is silent or does not fit a grid world):
   answers). Robots that lost a far part of the team through someone else's bridge
   go on exploring: only the pair of the broken link returns (§3.3.1 "the pair of
   robots ... are encouraged to return").
-* **Utility reduction.** "The utility ... is lessened if there are any robots near
-  that destination": as in Simmons et al., unknown cells within ``R`` of another
-  robot's announced destination are not counted in ``U``. Robots that follow,
-  approach, return or hold announce "no destination".
-* **Scale of U and C.** ``U`` counts cells and ``C`` is a path length in cells;
-  ``w = 1`` trades one unknown cell for one cell of travel (Simmons's "information
-  gain minus cost"). Larger ``w`` favours near frontiers.
+* **Utility reduction.** "The utility expected by a robot considering moving to a
+  particular frontier is lessened if there are any robots near that destination":
+  unknown cells within ``R`` of another robot's announced destination (Simmons et
+  al.) and of another robot's reported cell (the sentence's "any robots near") are
+  not counted (``discount_around=both``; ``destinations`` is the earlier reading).
+  Robots that follow, approach, return or hold announce "no destination".
+* **Scale of U and C.** ``U`` counts cells and ``C`` is a path length. To compare
+  them in one unit, ``U`` is read as the ticks a moving sensor needs to sense that
+  many new cells, ``U / (2R + 1)`` (a step senses at most a strip ``2R + 1`` cells
+  wide); ``w = 1`` then trades a tick of sensing for a tick of travel.
+  ``utility_unit=cells`` (the earlier reading) trades one unknown cell for one cell
+  of travel, which sends robots to large unknown areas far away.
 * **Simultaneous choices.** Each robot chooses for itself, so two robots planning
   in the same tick can pick the same frontier before they hear of each other.
   With ``resolve_conflicts`` the robot with the higher id re-plans when a lower id
@@ -183,6 +229,7 @@ Interpretations (where the paper is silent or does not fit a grid world):
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
@@ -376,9 +423,9 @@ def utility(
 
 
 def net_value(
-    gain: npt.NDArray[np.integer], cost: npt.NDArray[np.floating], cost_weight: float
+    gain: npt.NDArray[np.number], cost: npt.NDArray[np.floating], cost_weight: float
 ) -> npt.NDArray[np.float64]:
-    """§3.2 after Simmons: ``U(f) - w C(f)`` (cells).
+    """§3.2 after Simmons: ``U(f) - w C(f)`` (``U`` in cells or ticks, ``C`` in cells).
 
     >>> net_value(np.array([10, 30]), np.array([4.0, 25.0]), 1.0).tolist()
     [6.0, 5.0]
@@ -569,6 +616,7 @@ class VazquezNetwork(Strategy):
     """Vazquez & Malcolm: behaviour-based exploration keeping the mobile network."""
 
     id = "vazquez-network"
+    default_sharing = "broadcast"
     summary = (
         "Vazquez & Malcolm 2004: decentralised information-gain exploration; bridge "
         "links keep a comfort zone (behaviours of Fig. 2)"
@@ -609,19 +657,74 @@ class VazquezNetwork(Strategy):
             0, "ticks", "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)", low=0
         ),
         "zone_includes_targets": Param(
-            True, "", "keep the zone around bridge neighbours' destinations too"
+            False, "", "keep the zone around bridge neighbours' destinations too (ours)"
         ),
         "constraint_memory": Param(
             0,
             "ticks",
-            "keep a neighbour's comfort zone after its link stops being a bridge or after "
-            "reconnecting; 0 = 4 d3 (at least 50)",
+            "keep a neighbour's comfort zone after reconnecting with it (and, with "
+            "constrain_bridges=always, after its link stops being a bridge); 0 = "
+            "memory_ranges x d3 of travel (at least 10 ticks)",
             low=0,
+        ),
+        "memory_ranges": Param(
+            1.0, "d3", "default constraint_memory in ranges of travel (d3 / speed ticks)", low=0
         ),
         "resolve_conflicts": Param(
             True, "", "re-plan when a lower id announces a destination within R of ours"
         ),
+        "abort_memory": Param(
+            0,
+            "ticks",
+            "leave a frontier given up for a constraint to the others this long; 0 = 4 d3 "
+            "of travel (at least 50)",
+            low=0,
+        ),
+        "constrain_bridges": Param(
+            "stretched",
+            "",
+            "which bridge links constrain: stretched (signal below threshold, beyond d2, "
+            "§3.1) or always (every bridge)",
+            choices=("stretched", "always"),
+        ),
+        "zone_between_pair": Param(
+            True,
+            "",
+            "a stretched pair searches the comfort zone between the two (within d2 of "
+            "both, §3.3.1), not around the other robot only",
+        ),
+        "no_frontier_rule": Param(
+            "approach",
+            "",
+            "no frontier in the comfort zone: approach (move towards the stretched "
+            "partner, §3.3.1) or convoy (lead / follow / hold by distance to the root)",
+            choices=("approach", "convoy"),
+        ),
+        "discount_around": Param(
+            "both",
+            "",
+            "U leaves out cells within R of other robots' destinations, positions or both",
+            choices=("both", "destinations", "positions"),
+        ),
+        "utility_unit": Param(
+            "ticks",
+            "",
+            "U in ticks of sensing, U / (2R + 1) (ticks, like C) or in cells",
+            choices=("ticks", "cells"),
+        ),
+        "replan_on_behaviour": Param(
+            "any",
+            "",
+            "re-evaluate the plan on any change of behaviour (Fig. 2) or only into and "
+            "out of achieve-connectivity",
+            choices=("any", "connectivity"),
+        ),
         **REPLAN_PARAMS,
+        # "If the robot arrives at the current frontier the exploration algorithm its
+        # executed" (Fig. 2): a plan ends on arrival, not when its frontier is explored.
+        "replan_on_target_explored": dataclasses.replace(
+            REPLAN_PARAMS["replan_on_target_explored"], default=False
+        ),
     }
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
@@ -644,6 +747,8 @@ class VazquezNetwork(Strategy):
         self.previous_neighbours: frozenset[int] = frozenset()
         self.lost: dict[int, tuple[Cell, int]] = {}  # neighbour -> (last cell, tick lost)
         self.remembered: dict[int, int] = {}  # partner -> constrained until this tick
+        self.stretched: frozenset[int] = frozenset()  # bridge partners beyond d2 last tick
+        self.aborted: dict[Cell, int] = {}  # frontier given up for a constraint -> until tick
         self._roles_key: tuple[frozenset[int], frozenset[tuple[int, int]]] | None = None
         self._roles = NetworkRoles(frozenset(), frozenset(), {robot_id: 0})
 
@@ -668,12 +773,17 @@ class VazquezNetwork(Strategy):
         return math.isfinite(self._d3(view))
 
     def _memory(self, view: RobotView, name: str) -> int:
-        """A duration parameter in ticks; 0 = ``4 d3`` ticks of travel, at least 50."""
+        """A duration parameter in ticks; 0 = its default in ranges of travel:
+        ``reconnect_timeout`` and ``abort_memory`` 4 d3 (at least 50 ticks),
+        ``constraint_memory`` ``memory_ranges x d3`` (at least 10)."""
         ticks = int(self.p[name])
         if ticks > 0:
             return ticks
-        travel = 4 * self._d3(view) / view.speed  # inf for a range of about 1e308 cells
-        return max(50, math.ceil(travel)) if math.isfinite(travel) else _FOREVER
+        ranges, least = (
+            (float(self.p["memory_ranges"]), 10) if name == "constraint_memory" else (4.0, 50)
+        )
+        travel = ranges * self._d3(view) / view.speed  # inf for a range of about 1e308 cells
+        return max(least, math.ceil(travel)) if math.isfinite(travel) else _FOREVER
 
     def _roles_of(self, view: RobotView) -> NetworkRoles:
         key = (view.subnetwork, view.links)
@@ -746,17 +856,36 @@ class VazquezNetwork(Strategy):
         self.previous_neighbours = roles.neighbours
         return changed
 
-    def _partners(self, view: RobotView, roles: NetworkRoles) -> frozenset[int]:
-        """Robots whose comfort zone constrains this one: its bridge neighbours, and those
-        that were bridge neighbours or reconnected in the last ``constraint_memory`` ticks
-        (§3.3.1: "once the robot achieves the connection status it constrains future
-        plans"; this also keeps a flickering link from switching behaviours every tick)."""
+    def _partners(self, view: RobotView, roles: NetworkRoles, d2: float) -> frozenset[int]:
+        """Robots whose comfort zone constrains this one.
+
+        §3.1: "A pair of robots impose mutual motion constraints only if they constitute
+        a solitary bridge connection ... and if the signal strength among the pair of
+        robots falls below a threshold": bridge neighbours farther than ``d2``
+        (``constrain_bridges=stretched``), and for ``constraint_memory`` ticks those it
+        got back within ``d2`` of or reconnected with (§3.3.1: "once the robot achieves
+        the connection status it constrains future plans"). With
+        ``constrain_bridges=always`` every bridge neighbour constrains, and keeps
+        constraining for ``constraint_memory`` ticks after its link stopped being a
+        bridge."""
         if not self._constrained(view):
             return frozenset()
         until = view.tick + self._memory(view, "constraint_memory")
-        for robot in roles.bridges:
-            self.remembered[robot] = until
-        return frozenset(r for r in self.remembered if r in view.subnetwork)
+        stretched = frozenset(
+            robot
+            for robot in roles.bridges
+            if (cell := self._position(robot)) is not None and g(view.position, cell) >= d2 * d2
+        )
+        if self.p["constrain_bridges"] == "always":
+            self.stretched = stretched
+            for robot in roles.bridges:
+                self.remembered[robot] = until
+            return frozenset(r for r in self.remembered if r in view.subnetwork)
+        for robot in self.stretched - stretched:
+            if robot in view.subnetwork:  # back in the comfort zone: connection achieved
+                self.remembered[robot] = until
+        self.stretched = stretched
+        return stretched | frozenset(r for r in self.remembered if r in view.subnetwork)
 
     def _others_close(self, view: RobotView, collision_distance: float) -> list[Cell]:
         """Last reported cells of robots of the sub-network closer than the collision distance."""
@@ -784,7 +913,7 @@ class VazquezNetwork(Strategy):
         if joined and self.announced is not None:
             messages.append(self._target_message(self.announced))
 
-        partners = self._partners(view, roles)
+        partners = self._partners(view, roles, d2)
         close = self._others_close(view, d1)
         behaviour = select_behaviour(
             view.position,
@@ -794,13 +923,18 @@ class VazquezNetwork(Strategy):
             collision_distance=d1,
             disconnected=bool(self.lost),
         )
-        switched = behaviour != self.behaviour and ACHIEVE_CONNECTIVITY in (
-            behaviour,
-            self.behaviour,
+        switched = behaviour != self.behaviour and (
+            self.p["replan_on_behaviour"] == "any"
+            or ACHIEVE_CONNECTIVITY in (behaviour, self.behaviour)
         )
         self.behaviour = behaviour
 
         if conflict or lost_changed or switched or self._needs_plan(view):
+            # A plan given up to a constraint: the network's, or a robot in the way.
+            constrained_now = switched and behaviour == ACHIEVE_CONNECTIVITY
+            gave_up = constrained_now or lost_changed or view.blocked
+            if gave_up and self.mode in (EXPLORE, LEAD) and not view.arrived:
+                self._abort(view)
             decision = self._plan(view, roles, partners, close, d1, d2)
             announce = self.destination if self.mode in (EXPLORE, LEAD) else None
             if announce != self.announced:
@@ -890,9 +1024,13 @@ class VazquezNetwork(Strategy):
         partner_cells = self._cells(partners)
         if partner_cells:
             # Constrained search (§3.3.1): paths stay within d2 of every partner, and
-            # the destination lies in the comfort zone of each partner's position and
-            # announced destination.
-            region = within_distance(view.belief.shape, partner_cells, d2)
+            # the destination lies in the comfort zone of each partner's position (and
+            # announced destination). Stretched, "the search of frontier cells is
+            # constrained to the comfort zone between the pair": within d2 of the
+            # robot's own cell too.
+            between = self.p["zone_between_pair"] and bool(self.stretched & partners)
+            centres = [*partner_cells, view.position] if between else partner_cells
+            region = within_distance(view.belief.shape, centres, d2)
             anchors = list(partner_cells)
             if self.p["zone_includes_targets"]:
                 anchors += [
@@ -917,6 +1055,24 @@ class VazquezNetwork(Strategy):
         goal = (int(cells[best, 0]), int(cells[best, 1]))
         return self._go(view, EXPLORE, extract_path(dist, goal), goal)
 
+    def _abort(self, view: RobotView) -> None:
+        """§3.2: "In some occasions robots may abort the plan to explore a frontier due
+        to constraints, in such case the frontier may be selected by another robot":
+        the robot leaves the frontier it gave up to the others for ``abort_memory``
+        ticks (it would otherwise pick it again and abort again, forever)."""
+        if self.destination is not None:
+            self.aborted[self.destination] = view.tick + self._memory(view, "abort_memory")
+
+    def _left_to_others(self, view: RobotView, targets: BoolGrid) -> BoolGrid:
+        """``targets`` without the cells within ``R`` of the frontiers this robot aborted
+        (unless that leaves none)."""
+        self.aborted = {cell: until for cell, until in self.aborted.items() if until >= view.tick}
+        if not self.aborted:
+            return targets
+        mask = exclusion_mask(targets.shape, sorted(self.aborted), view.sensor_range)
+        kept = targets & ~mask if mask is not None else targets
+        return kept if kept.any() else targets
+
     def _evaluate(
         self,
         view: RobotView,
@@ -933,7 +1089,7 @@ class VazquezNetwork(Strategy):
         free = passable(view.belief)
         if region is not None:
             free &= region
-        targets = frontier if region is None else frontier & region
+        targets = self._left_to_others(view, frontier if region is None else frontier & region)
         for obstacles in (close, ()) if close else ((),):
             grid = free
             if obstacles:
@@ -947,15 +1103,30 @@ class VazquezNetwork(Strategy):
         if rows.size == 0:
             return None
         cells = np.stack([rows, cols], axis=1)
-        others = [cell for _robot, (cell, _tick) in sorted(self.destinations.items())]
-        gain = utility(
+        cells_gained = utility(
             view.belief,
             cells,
             view.sensor_range,
-            others,
+            self._discount_centres(view),
             line_of_sight=bool(self.p["line_of_sight"]),
         )
+        gain = cells_gained.astype(np.float64)
+        if self.p["utility_unit"] == "ticks":  # the ticks a moving sensor needs to gain U
+            gain /= 2 * view.sensor_range + 1
         return dist, cells, net_value(gain, dist[rows, cols], float(self.p["cost_weight"]))
+
+    def _discount_centres(self, view: RobotView) -> list[Cell]:
+        """§3.2: "The utility expected by a robot considering moving to a particular
+        frontier is lessened if there are any robots near that destination": the cells
+        around other robots' announced destinations and (``discount_around``) around
+        the last reported cells of the other robots of the sub-network."""
+        around = self.p["discount_around"]
+        centres: list[Cell] = []
+        if around in ("both", "destinations"):
+            centres += [cell for _robot, (cell, _tick) in sorted(self.destinations.items())]
+        if around in ("both", "positions"):
+            centres += self._cells(view.subnetwork - {self.robot_id})
+        return centres
 
     def _outside_zone(
         self,
@@ -967,9 +1138,24 @@ class VazquezNetwork(Strategy):
         d1: float,
         d2: float,
     ) -> Decision:
-        """No frontier in the comfort zone: approach, wait, follow or lead (see interpretations)."""
+        """No frontier in the comfort zone. ``no_frontier_rule=approach`` (§3.3.1: "When
+        no frontier cells are found the robot computes a path to the current position
+        of the other robot in the bridge connection"): move towards the farthest partner
+        beyond ``d2`` until mid-zone; a robot constrained only by memory explores
+        unconstrained. ``convoy``: approach, wait, follow or lead (see interpretations)."""
         position = view.position
-        leaders, followers = orient(self.robot_id, partners, roles.hops)
+        if self.p["no_frontier_rule"] == "approach":
+            far = [(g(position, c), c) for c in self._cells(partners) if g(position, c) >= d2 * d2]
+            if far:
+                return self._towards(view, APPROACH, max(far)[1], (d1 + d2) / 2, close)
+            # Partners within d2 (remembered, or every bridge): the lowest id explores,
+            # keeping the others within d2; the others go with it, to mid-zone.
+            lower = self._cells(r for r in partners if r < self.robot_id)
+            if lower:
+                return self._towards(view, FOLLOW, lower[0], (d1 + d2) / 2, close)
+            leaders, followers = [], sorted(partners)
+        else:
+            leaders, followers = orient(self.robot_id, partners, roles.hops)
         stretched = [
             (g(position, cell), cell)
             for cell in self._cells(leaders)
