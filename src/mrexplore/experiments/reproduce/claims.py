@@ -268,6 +268,11 @@ class Trend:
         )
 
 
+_EVERY_CELL = (
+    "reproduced if it holds in every cell, partly if in at least half, not reproduced otherwise"
+)
+
+
 def lowest_arm(arms: Mapping[str, Mapping[int, float]], among: Sequence[str]) -> str | None:
     """The arm of ``among`` with the lowest mean (ties: the first by name), ``None``
     when none has a finite mean.
@@ -303,12 +308,9 @@ class Lowest:
 
     def describe(self, first: str, second: str, metric: str) -> str:
         unless = ", ".join(map(str, self.unless))
-        return (
-            f"mean {metric} of `{first}` the lowest of it and `{second}`, cell by cell"
-            + (f" (not the lowest where the last cell key is {unless})" if unless else "")
-            + "; reproduced if it holds in every cell, partly if in at least half, not "
-            "reproduced otherwise; no significance test"
-        )
+        where = f" (not the lowest where the last cell key is {unless})" if unless else ""
+        lowest = f"mean {metric} of `{first}` the lowest of it and `{second}`, cell by cell"
+        return f"{lowest}{where}; {_EVERY_CELL}; no significance test"
 
     def judge(
         self, values: Values, first: str, seconds: Sequence[str], digits: int
@@ -357,11 +359,9 @@ class TrendForAll:
         return b < a if self.direction == "falls" else b > a
 
     def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"mean {metric} of each of `{first}` / `{second}` {self.direction} with each step "
-            "of the last cell key: reproduced if at every step for every arm, partly if "
-            "from the first to the last step for every arm, not reproduced otherwise"
-        )
+        each = f"mean {metric} of each of `{first}` / `{second}` {self.direction}"
+        rule = "reproduced if at every step for every arm, partly if from the first to the last"
+        return f"{each} with each step of the last cell key: {rule}"
 
     def judge(
         self, values: Values, first: str, seconds: Sequence[str], digits: int
@@ -400,12 +400,9 @@ class NotBelowAll:
     """
 
     def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"`{first}` is superior in a cell if the paired (same seeds) 95% CI of its "
-            f"{metric} minus that of each of `{second}` lies below 0; the claim holds in the "
-            "cells where it is not superior: reproduced if in every cell (that has every "
-            "arm), partly if in at least half"
-        )
+        test = f"the paired (same seeds) 95% CI of its {metric} minus that of each of `{second}`"
+        superior = f"`{first}` is superior in a cell (with every arm) if {test} lies below 0"
+        return f"{superior}; the claim holds where it is not: {_EVERY_CELL}"
 
     def judge(
         self, values: Values, first: str, seconds: Sequence[str], digits: int
@@ -435,28 +432,26 @@ class Unpaired(Counted):
     """
 
     def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"mean {metric} of `{first}` {self.relation} that of `{second}` (not paired by "
-            "seed), cell by cell; reproduced if it holds in every cell, partly if in at "
-            "least half, not reproduced otherwise"
-        )
+        words = f"mean {metric} of `{first}` {self.relation} that of `{second}`"
+        return f"{words}, cell by cell, the seeds not paired; {_EVERY_CELL}"
 
     def judge(
         self, values: Values, first: str, seconds: Sequence[str], digits: int
     ) -> tuple[Outcome, str]:
-        count = total = 0
-        texts, fails = [], []
-        for second in seconds:
-            for cell, arms in values.items():
-                if first in arms and second in arms:
-                    a, b = _mean(arms[first]), _mean(arms[second])
-                    total += 1
-                    count += self.holds(a, b)
-                    if not self.holds(a, b):
-                        fails.append(f"{_cell_name(cell)} {fmt(a, digits)} vs {fmt(b, digits)}")
-            texts.append(f"`{first}` {self.relation} `{second}`")
-        text = f"{', '.join(texts)} in {count}/{total} cells"
-        return count_outcome(count, total), text + (
+        means = [
+            (cell, _mean(arms[first]), _mean(arms[second]))
+            for second in seconds
+            for cell, arms in values.items()
+            if first in arms and second in arms
+        ]
+        fails = [
+            f"{_cell_name(c)} {fmt(a, digits)} vs {fmt(b, digits)}"
+            for c, a, b in means
+            if not self.holds(a, b)
+        ]
+        count, against = len(means) - len(fails), " / ".join(f"`{s}`" for s in seconds)
+        text = f"`{first}` {self.relation} {against} in {count}/{len(means)} cells"
+        return count_outcome(count, len(means)), text + (
             f"; fails in {'; '.join(fails)}" if fails else ""
         )
 
