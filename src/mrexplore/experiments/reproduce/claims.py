@@ -268,6 +268,194 @@ class Trend:
         )
 
 
+_EVERY_CELL = (
+    "reproduced if it holds in every cell, partly if in at least half, not reproduced otherwise"
+)
+
+
+def lowest_arm(arms: Mapping[str, Mapping[int, float]], among: Sequence[str]) -> str | None:
+    """The arm of ``among`` with the lowest mean (ties: the first by name), ``None``
+    when none has a finite mean.
+
+    >>> lowest_arm({"b": {1: 2.0}, "a": {1: 2.0}, "c": {1: 1.0}, "d": {}}, ["a", "b", "d"])
+    'a'
+    """
+    means = {a: _mean(arms[a]) for a in among if a in arms}
+    finite = {a: m for a, m in means.items() if math.isfinite(m)}
+    return min(finite, key=lambda a: (finite[a], a)) if finite else None
+
+
+@dataclass(frozen=True)
+class Lowest:
+    """``first`` has the lowest mean of the arms compared, cell by cell; in the cells
+    whose last key is in ``unless`` the claim is that it is *not* the lowest. Every
+    cell (reproduced), at least half (partly). Each cell shows ``first`` against the
+    best other arm and their paired difference; ``brief``: only the cells that fail.
+
+    >>> values = {("m", 2): {"a": {1: 1.0, 2: 2.0}, "b": {1: 2.0, 2: 4.0}},
+    ...           ("m", 4): {"a": {1: 3.0}, "b": {1: 2.0}}}
+    >>> outcome, text = Lowest().judge(values, "a", ["b"], 0)
+    >>> outcome, text.split("; ")[:2]
+    ('partly', ['holds in 1/2 cells', 'm/2r: `a` 2 vs best other `b` 3, paired -2 [-8, 5]'])
+    >>> text.split("; ")[2]
+    'm/4r: `a` 3 vs best other `b` 2, paired 1 [-, -] x'
+    >>> Lowest(unless=(4,), brief=True).judge(values, "a", ["b"], 0)
+    ('reproduced', 'holds in 2/2 cells over 1 groups of the other keys')
+    """
+
+    unless: tuple[Any, ...] = ()
+    brief: bool = False
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        unless = ", ".join(map(str, self.unless))
+        where = f" (not the lowest where the last cell key is {unless})" if unless else ""
+        lowest = f"mean {metric} of `{first}` the lowest of it and `{second}`, cell by cell"
+        return f"{lowest}{where}; {_EVERY_CELL}; no significance test"
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        count, parts, misses = 0, [], []
+        for cell, arms in values.items():
+            name, best = _cell_name(cell), lowest_arm(arms, [first, *seconds])
+            ok = first in arms and best is not None and (best == first) != (cell[-1] in self.unless)
+            count += ok
+            misses += [] if ok else [f"{name} (`{best or '-'}` lowest)"]
+            mark, runner = ("" if ok else " x"), lowest_arm(arms, seconds)
+            ours = f"{name}: `{first}` {fmt(_mean(arms.get(first, {})), digits)}"
+            if first not in arms or runner is None:
+                parts.append(ours + mark)
+                continue
+            d = paired(arms, first, runner)
+            parts.append(
+                f"{ours} vs best other `{runner}` {fmt(_mean(arms[runner]), digits)}, paired "
+                f"{fmt(d.mean, digits)} [{fmt(d.ci_low, digits)}, {fmt(d.ci_high, digits)}]{mark}"
+            )
+        head = f"holds in {count}/{len(values)} cells"
+        if not self.brief:
+            return count_outcome(count, len(values)), "; ".join([head, *parts])
+        head += f" over {len({cell[:-1] for cell in values})} groups of the other keys"
+        fails = f"; fails in {', '.join(misses)}" if misses else ""
+        return count_outcome(count, len(values)), head + fails
+
+
+@dataclass(frozen=True)
+class TrendForAll:
+    """The mean of every compared arm rises (or falls) with the last part of the cell
+    key, within each group of the other parts: at every step for every arm
+    (reproduced); from the first to the last step for every arm (partly).
+
+    >>> values = {("m", 2): {"a": {1: 9.0}, "b": {1: 8.0}},
+    ...           ("m", 4): {"a": {1: 5.0}, "b": {1: 6.0}},
+    ...           ("m", 6): {"a": {1: 6.0}, "b": {1: 4.0}}}
+    >>> TrendForAll("falls").judge(values, "a", ["b"], 0)
+    ('partly', 'm `a`: 9 -> 5 -> 6 x; m `b`: 8 -> 6 -> 4')
+    """
+
+    direction: str
+    """``rises`` or ``falls``."""
+
+    def moves(self, a: float, b: float) -> bool:
+        return b < a if self.direction == "falls" else b > a
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        each = f"mean {metric} of each of `{first}` / `{second}` {self.direction}"
+        rule = "reproduced if at every step for every arm, partly if from the first to the last"
+        return f"{each} with each step of the last cell key: {rule}"
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        series: dict[tuple[CellKey, str], list[float]] = {}
+        for cell, arms in values.items():  # in the caller's order: the steps' order
+            for arm in (first, *seconds):
+                if arm in arms:
+                    series.setdefault((cell[:-1], arm), []).append(_mean(arms[arm]))
+        every = overall = bool(series)
+        parts = []
+        for (group, arm), means in series.items():
+            steps = all(self.moves(a, b) for a, b in itertools.pairwise(means))
+            every &= steps
+            overall &= len(means) > 1 and self.moves(means[0], means[-1])
+            label = "/".join(map(str, group)) or "all"
+            trace = " -> ".join(fmt(m, digits) for m in means)
+            parts.append(f"{label} `{arm}`: {trace}" + ("" if steps else " x"))
+        outcome: Outcome = (
+            "reproduced" if every and overall else "partly" if overall else "not reproduced"
+        )
+        return outcome, "; ".join(parts) or "no cell"
+
+
+@dataclass(frozen=True)
+class NotBelowAll:
+    """``first`` is not superior to the other arms: it is superior in a cell where the
+    paired 95% CI of ``first - second`` lies below 0 (n >= 2) against every other arm.
+    Not superior in every cell (reproduced), in at least half (partly).
+
+    >>> far = {s: 5.0 + s % 2 for s in range(4)}
+    >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(4)}, "b": far, "c": far},
+    ...           ("m", 4): {"a": far, "b": far, "c": far}}
+    >>> NotBelowAll().judge(values, "a", ["b", "c"], 0)
+    ('partly', 'not significantly below all others in 1/2 cells; superior in m/2r')
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        test = f"the paired (same seeds) 95% CI of its {metric} minus that of each of `{second}`"
+        superior = f"`{first}` is superior in a cell (with every arm) if {test} lies below 0"
+        return f"{superior}; the claim holds where it is not: {_EVERY_CELL}"
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        superior = []
+        cells = [(c, arms) for c, arms in values.items() if {first, *seconds} <= set(arms)]
+        for cell, arms in cells:
+            differences = [paired(arms, first, second) for second in seconds]
+            if all(d.n >= 2 and d.ci_high < 0 for d in differences):
+                superior.append(_cell_name(cell))
+        count = len(cells) - len(superior)
+        text = f"not significantly below all others in {count}/{len(cells)} cells"
+        return count_outcome(count, len(cells)), text + (
+            f"; superior in {', '.join(superior)}" if superior else ""
+        )
+
+
+@dataclass(frozen=True)
+class Unpaired(Counted):
+    """:class:`Counted` for arms whose seeds are not paired (the same seed is not the
+    same set-up in both): means only, and the cells where it fails.
+
+    >>> values = {("m", 2): {"a": {1: 1.0}, "b": {1: 2.0}},
+    ...           ("m", 4): {"a": {1: 3.0}, "b": {1: 2.0}}}
+    >>> Unpaired("<").judge(values, "a", ["b"], 0)
+    ('partly', '`a` < `b` in 1/2 cells; fails in m/4r 3 vs 2')
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        words = f"mean {metric} of `{first}` {self.relation} that of `{second}`"
+        return f"{words}, cell by cell, the seeds not paired; {_EVERY_CELL}"
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        means = [
+            (cell, _mean(arms[first]), _mean(arms[second]))
+            for second in seconds
+            for cell, arms in values.items()
+            if first in arms and second in arms
+        ]
+        fails = [
+            f"{_cell_name(c)} {fmt(a, digits)} vs {fmt(b, digits)}"
+            for c, a, b in means
+            if not self.holds(a, b)
+        ]
+        count, against = len(means) - len(fails), " / ".join(f"`{s}`" for s in seconds)
+        text = f"`{first}` {self.relation} {against} in {count}/{len(means)} cells"
+        return count_outcome(count, len(means)), text + (
+            f"; fails in {'; '.join(fails)}" if fails else ""
+        )
+
+
 _RELATIONS: dict[str, Callable[[float, float], bool]] = {
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b,
@@ -420,14 +608,19 @@ __all__ = [
     "Claim",
     "Counted",
     "Interpretation",
+    "Lowest",
+    "NotBelowAll",
     "PairedLower",
     "Rule",
     "Trend",
+    "TrendForAll",
+    "Unpaired",
     "Values",
     "WithinFactor",
     "claims_section",
     "count_outcome",
     "fmt",
+    "lowest_arm",
     "paired",
     "robustness",
     "robustness_section",
