@@ -268,6 +268,398 @@ class Trend:
         )
 
 
+def common_seeds(
+    values: Values, first: str, second: str, min_seeds: int = 1
+) -> list[tuple[CellKey, Summary, Summary, Summary]]:
+    """Per cell where both arms ran ``min_seeds`` or more common seeds, in the order of
+    ``values``: the summaries of ``first``, of ``second`` and of ``first - second`` over
+    those seeds.
+
+    >>> [(c, a.mean, b.mean, d.mean) for c, a, b, d in common_seeds(
+    ...     {("m", 2): {"a": {1: 3.0, 2: 5.0}, "b": {2: 1.0}}}, "a", "b")]
+    [(('m', 2), 5.0, 1.0, 4.0)]
+    """
+    out = []
+    for cell, arms in values.items():
+        a, b = arms.get(first, {}), arms.get(second, {})
+        seeds = sorted(set(a) & set(b))
+        if len(seeds) >= min_seeds:
+            x, y = [a[s] for s in seeds], [b[s] for s in seeds]
+            diff = [p - q for p, q in zip(x, y, strict=True)]
+            out.append((cell, summarize_metric(x), summarize_metric(y), summarize_metric(diff)))
+    return out
+
+
+def _curves(values: Values, arm: str) -> dict[CellKey, dict[Any, float]]:
+    """``cell[:-1] -> cell[-1] -> mean`` of ``arm``, in the order of ``values``."""
+    out: dict[CellKey, dict[Any, float]] = {}
+    for cell, arms in values.items():
+        if arm in arms:
+            out.setdefault(cell[:-1], {})[cell[-1]] = _mean(arms[arm])
+    return out
+
+
+def _group_name(group: CellKey) -> str:
+    return "/".join(map(str, group)) or "all"
+
+
+@dataclass(frozen=True)
+class Share:
+    """The ``statistic`` (``mean`` or ``sd``) of ``first`` ``relation`` that of ``second``
+    over the seeds both ran (at least ``min_seeds``), in a share of the cells: at least
+    ``reproduced`` (reproduced), at least ``partly`` (partly). The evidence adds the
+    ratio first / second, for means the paired differences (and how many 95% CIs
+    exclude 0), and the same count on the arms ``also`` (another measure of the runs).
+
+    >>> values = {("m", n): {"a": {1: 2.0, 2: 4.0}, "b": {1: 4.0, 2: 4.0 + n}} for n in (2, 4)}
+    >>> outcome, text = Share("<", 0.9, 0.5).judge(values, "a", ["b"], 0)
+    >>> print(outcome, *text.split("; "), sep="\\n")
+    reproduced
+    holds in 2/2 cells (paired 95% CI below 0 in 1, above 0 in 0)
+    ratio `a` / `b` median 0.55, range 0.50-0.60, lowest at m/4r
+    m/2r 3 vs 5 (paired -2 [-2, -2])
+    m/4r 3 vs 6 (paired -3 [-16, 10])
+    """
+
+    relation: str
+    reproduced: float
+    partly: float
+    statistic: str = "mean"
+    min_seeds: int = 1
+    also: tuple[str, str] | None = None
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        also = f" (also counted on `{self.also[0]}` vs `{self.also[1]}`)" if self.also else ""
+        return (
+            f"the {self.statistic} of {metric} of `{first}` {self.relation} that of `{second}` "
+            f"over the seeds both ran, cell by cell{also}; reproduced if it holds in at least "
+            f"{self.reproduced:.0%} of the cells, partly if in at least {self.partly:.0%}"
+        )
+
+    def compared(self, values: Values, first: str, second: str) -> list[tuple[Any, ...]]:
+        """Per cell: its key, the two statistics, the paired difference, and whether the
+        relation holds."""
+        holds = _RELATIONS[self.relation]
+        out = []
+        for cell, a, b, d in common_seeds(values, first, second, self.min_seeds):
+            x, y = getattr(a, self.statistic), getattr(b, self.statistic)
+            out.append((cell, x, y, d, bool(holds(x, y))))
+        return out
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        from statistics import median
+
+        found = self.compared(values, first, seconds[0])
+        if not found:
+            return "not reproduced", "no cell with both arms"
+        held = sum(ok for *_, ok in found)
+        parts = [f"holds in {held}/{len(found)} cells"]
+        if self.statistic == "mean":
+            below = sum(d.ci_high < 0 for *_, d, _ in found)
+            above = sum(d.ci_low > 0 for *_, d, _ in found)
+            parts[0] += f" (paired 95% CI below 0 in {below}, above 0 in {above})"
+        ratios = {c: a / b for c, a, b, *_ in found if b and math.isfinite(a / b)}
+        if ratios:
+            low = min(ratios, key=ratios.__getitem__)
+            parts.append(
+                f"ratio `{first}` / `{seconds[0]}` median {fmt(median(ratios.values()), 2)}, "
+                f"range {fmt(min(ratios.values()), 2)}-{fmt(max(ratios.values()), 2)}, lowest "
+                f"at {_cell_name(low)}"
+            )
+        for cell, a, b, d, ok in found:
+            interval = f"[{fmt(d.ci_low, digits)}, {fmt(d.ci_high, digits)}]"
+            diff = f" (paired {fmt(d.mean, digits)} {interval})" if self.statistic == "mean" else ""
+            parts.append(
+                f"{_cell_name(cell)} {fmt(a, digits)} vs {fmt(b, digits)}{diff}"
+                + ("" if ok else " x")
+            )
+        if self.also:
+            more = self.compared(values, *self.also)
+            parts.append(
+                f"`{self.also[0]}` vs `{self.also[1]}`: holds in "
+                f"{sum(ok for *_, ok in more)}/{len(more)} cells"
+            )
+        share = held / len(found)
+        outcome: Outcome = (
+            "reproduced"
+            if share >= self.reproduced
+            else "partly"
+            if share >= self.partly
+            else "not reproduced"
+        )
+        return outcome, "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class Diminishing:
+    """Each curve (the mean of one arm against the last cell key, per group of the other
+    keys) is lower at its largest key than at its smallest and drops at least as much
+    up to its middle key as after it (diminishing returns): every curve of every arm
+    compared (reproduced), at least half (partly).
+
+    >>> values = {("m", n): {"a": {1: 100.0 / n}, "b": {1: 120.0 - 10.0 * n}} for n in (1, 2, 4)}
+    >>> outcome, text = Diminishing().judge(values, "a", ["b"], 0)
+    >>> print(outcome, *text.split("; "), sep="\\n")
+    partly
+    falls in 2/2 curves, with diminishing returns in 1/2
+    `a` m: 100 -> 50 -> 25
+    `b` m: 110 -> 100 -> 80 x
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"each curve of the mean {metric} of `{first}` and of `{second}` against the last "
+            "cell key falls from its smallest to its largest key, dropping at least as much "
+            "up to its middle key as after it (diminishing returns); reproduced if every "
+            "curve does, partly if at least half"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        falling = passed = 0
+        parts = []
+        for arm in (first, *seconds):
+            for group, means in _curves(values, arm).items():
+                keys = sorted(means)
+                if len(keys) < 2:
+                    continue
+                ends = (keys[0], keys[len(keys) // 2], keys[-1])  # with 2 keys: middle = last
+                a, mid, z = (means[k] for k in ends)
+                ok = z < a and a - mid >= mid - z
+                falling, passed = falling + (z < a), passed + ok
+                curve = " -> ".join(fmt(means[k], digits) for k in dict.fromkeys(ends))
+                parts.append(f"`{arm}` {_group_name(group)}: {curve}" + ("" if ok else " x"))
+        total = len(parts)
+        return count_outcome(passed, total), (
+            f"falls in {falling}/{total} curves, with diminishing returns in {passed}/{total}; "
+            + "; ".join(parts)
+        )
+
+
+def _ends(
+    values: Values, first: str, second: str
+) -> dict[CellKey, tuple[tuple[Any, float, float], tuple[Any, float, float]]]:
+    """Per group of the cells' other keys with 2+ cells both arms ran: ``(last key, mean
+    of first, mean of second)`` (over the seeds both ran) at its smallest and largest
+    last key."""
+    groups: dict[CellKey, list[tuple[Any, float, float]]] = {}
+    for cell, a, b, _ in common_seeds(values, first, second):
+        groups.setdefault(cell[:-1], []).append((cell[-1], a.mean, b.mean))
+    return {g: (min(ends), max(ends)) for g, ends in groups.items() if len(ends) >= 2}
+
+
+def _ratio(a: float, b: float) -> float:
+    return a / b if b else math.nan
+
+
+@dataclass(frozen=True)
+class RatioAtMost:
+    """The ratio of the means ``first`` / ``second`` (over the seeds both ran) is at most
+    ``limit``: in every cell (reproduced), in at least half (partly).
+
+    >>> values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
+    >>> RatioAtMost(1.25).judge(values, "a", ["b"], 0)
+    ('partly', 'at most 1.25 in 1/2 cells: m/1r 1.10; m/5r 1.50 x')
+    """
+
+    limit: float
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"the mean {metric} of `{first}` over that of `{second}` (seeds both ran) at most "
+            f"{self.limit:g}, cell by cell; reproduced if in every cell, partly if in at least "
+            "half"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        ratios = {
+            c: _ratio(a.mean, b.mean) for c, a, b, _ in common_seeds(values, first, seconds[0])
+        }
+        held = sum(r <= self.limit for r in ratios.values())
+        parts = [
+            f"{_cell_name(c)} {fmt(r, 2)}" + ("" if r <= self.limit else " x")
+            for c, r in ratios.items()
+        ]
+        return count_outcome(held, len(ratios)), (
+            f"at most {self.limit:g} in {held}/{len(ratios)} cells: " + "; ".join(parts)
+        )
+
+
+@dataclass(frozen=True)
+class RatioFalls:
+    """The ratio of the means ``first`` / ``second`` (over the seeds both ran) is lower at
+    the largest last cell key than at the smallest, per group of the other keys: every
+    group (reproduced), at least half (partly).
+
+    >>> values = {("m", n): {"a": {1: 30.0 / n + 10}, "b": {1: 10.0}} for n in (1, 3)}
+    >>> RatioFalls().judge(values, "a", ["b"], 0)
+    ('reproduced', 'falls in 1/1 groups: m: 4.00 -> 2.00')
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"the ratio of the mean {metric} of `{first}` to that of `{second}` (seeds both "
+            "ran) is lower at the largest last cell key than at the smallest, group by group; "
+            "reproduced if in every group, partly if in at least half"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        held, parts = 0, []
+        for group, ((_, a0, b0), (_, a1, b1)) in _ends(values, first, seconds[0]).items():
+            smallest, largest = _ratio(a0, b0), _ratio(a1, b1)
+            held += largest < smallest
+            parts.append(
+                f"{_group_name(group)}: {fmt(smallest, 2)} -> {fmt(largest, 2)}"
+                + ("" if largest < smallest else " x")
+            )
+        return count_outcome(held, len(parts)), (
+            f"falls in {held}/{len(parts)} groups: " + "; ".join(parts)
+        )
+
+
+@dataclass(frozen=True)
+class GapNarrows:
+    """The gap ``first - second`` of the means (over the seeds both ran) is smaller at the
+    largest last cell key than at the smallest, per group of the other keys, and so is
+    the ratio ``first / second``: both in every group (reproduced); the gap in some
+    group (partly). A gap between falling curves shrinks almost by itself: the ratio says
+    whether the two curves really converge.
+
+    >>> values = {("m", 1): {"a": {1: 2000.0}, "b": {1: 1000.0}},
+    ...           ("m", 3): {"a": {1: 900.0}, "b": {1: 300.0}}}
+    >>> outcome, text = GapNarrows().judge(values, "a", ["b"], 0)
+    >>> print(outcome, *text.split(": ", 1), sep="\\n")
+    partly
+    the gap shrinks in 1/1 groups, the ratio too in 0/1
+    m: 1: 1 000 (x2.00) -> 3: 600 (x3.00)
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"the gap in the mean {metric} between `{first}` and `{second}` (seeds both ran), "
+            "at the largest last cell key against the smallest, as a difference and as a "
+            "ratio, group by group; reproduced if both shrink in every group, partly if the "
+            "difference shrinks in some"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        gap = both = 0
+        parts = []
+        for group, ((k0, a0, b0), (k1, a1, b1)) in _ends(values, first, seconds[0]).items():
+            shrinks = a1 - b1 < a0 - b0
+            gap, both = gap + shrinks, both + (shrinks and _ratio(a1, b1) < _ratio(a0, b0))
+            parts.append(
+                f"{_group_name(group)}: {k0}: {fmt(a0 - b0, digits)} (x{fmt(_ratio(a0, b0), 2)})"
+                f" -> {k1}: {fmt(a1 - b1, digits)} (x{fmt(_ratio(a1, b1), 2)})"
+            )
+        total = len(parts)
+        outcome: Outcome = (
+            "reproduced" if total and both == total else "partly" if gap else "not reproduced"
+        )
+        return outcome, (
+            f"the gap shrinks in {gap}/{total} groups, the ratio too in {both}/{total}: "
+            + "; ".join(parts)
+        )
+
+
+@dataclass(frozen=True)
+class RisesAbove:
+    """In each group of the other cell keys that starts with ``within``, the mean of
+    ``first`` at every last key above ``threshold`` exceeds that at the largest last key
+    of at most ``threshold`` (for instance: a team does worse above seven robots): every
+    group (reproduced), some (partly).
+
+    >>> values = {("s", 1, n): {"a": {1: t}} for n, t in ((6, 30.0), (7, 25.0), (8, 26.0))}
+    >>> RisesAbove(7, ("s",)).judge(values, "a", [], 0)
+    ('reproduced', 'holds in 1/1 groups: s/1: 25 at 7, 26 at 8')
+    """
+
+    threshold: float
+    within: CellKey = ()
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        where = f" (cells {_group_name(self.within)}/...)" if self.within else ""
+        return (
+            f"the mean {metric} of `{first}` at every last cell key above {self.threshold:g} "
+            f"exceeds that at the largest key of at most {self.threshold:g}, group by group"
+            f"{where}; reproduced if in every group, partly if in some"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        held, parts = 0, []
+        for group, means in _curves(values, first).items():
+            above = [k for k in means if k > self.threshold]
+            ref = max((k for k in means if k <= self.threshold), default=None)
+            if group[: len(self.within)] != self.within or ref is None or not above:
+                continue
+            ok = all(means[k] > means[ref] for k in above)
+            held += ok
+            shown = ", ".join(f"{fmt(means[k], digits)} at {k}" for k in [ref, *above])
+            parts.append(f"{_group_name(group)}: {shown}" + ("" if ok else " x"))
+        outcome: Outcome = (
+            "reproduced" if parts and held == len(parts) else "partly" if held else "not reproduced"
+        )
+        return outcome, f"holds in {held}/{len(parts)} groups: " + "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class AtLeast:
+    """The mean of ``first`` is at least ``reproduced`` in every cell (reproduced), at
+    least ``partly`` in every cell (partly); the other arms' ranges are cited beside.
+
+    >>> values = {("m", 2): {"a": {1: 0.95}, "b": {1: 0.2}}, ("m", 4): {"a": {1: 0.9}}}
+    >>> AtLeast(0.95, 0.8).judge(values, "a", ["b"], 2)
+    ('partly', 'mean per cell: `a` 0.90-0.95; `b` 0.20-0.20')
+    """
+
+    reproduced: float
+    partly: float
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"the mean {metric} of `{first}` cell by cell: reproduced if at least "
+            f"{self.reproduced:g} in every cell, partly if at least {self.partly:g} in every "
+            f"cell (`{second}` cited beside)"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        means = {
+            arm: [
+                m
+                for arms in values.values()
+                if arm in arms and math.isfinite(m := _mean(arms[arm]))
+            ]
+            for arm in (first, *seconds)
+        }
+        if not means[first]:
+            return "not reproduced", f"no value of `{first}`"
+        low = min(means[first])
+        outcome: Outcome = (
+            "reproduced"
+            if low >= self.reproduced
+            else "partly"
+            if low >= self.partly
+            else "not reproduced"
+        )
+        ranges = [
+            f"`{a}` {fmt(min(m), digits)}-{fmt(max(m), digits)}" for a, m in means.items() if m
+        ]
+        return outcome, "mean per cell: " + "; ".join(ranges)
+
+
 _RELATIONS: dict[str, Callable[[float, float], bool]] = {
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b,
@@ -417,15 +809,23 @@ def robustness_section(
 
 
 __all__ = [
+    "AtLeast",
     "Claim",
     "Counted",
+    "Diminishing",
+    "GapNarrows",
     "Interpretation",
     "PairedLower",
+    "RatioAtMost",
+    "RatioFalls",
+    "RisesAbove",
     "Rule",
+    "Share",
     "Trend",
     "Values",
     "WithinFactor",
     "claims_section",
+    "common_seeds",
     "count_outcome",
     "fmt",
     "paired",
