@@ -409,18 +409,17 @@ class Diminishing:
     """
 
     def describe(self, first: str, second: str, metric: str) -> str:
+        curves = f"each curve of `{first}` and of `{second}` (mean {metric} against the last key)"
         return (
-            f"each curve of the mean {metric} of `{first}` and of `{second}` against the last "
-            "cell key falls from its smallest to its largest key, dropping at least as much "
-            "up to its middle key as after it (diminishing returns); reproduced if every "
-            "curve does, partly if at least half"
+            f"{curves} falls from its smallest to its largest key, dropping at least as much up "
+            "to its middle key as after (diminishing returns); reproduced if all do, partly if half"
         )
 
     def judge(
         self, values: Values, first: str, seconds: Sequence[str], digits: int
     ) -> tuple[Outcome, str]:
+        parts: list[str] = []
         falling = passed = 0
-        parts = []
         for arm in (first, *seconds):
             for group, means in _curves(values, arm).items():
                 keys = sorted(means)
@@ -503,9 +502,8 @@ class RatioFalls:
 
     def describe(self, first: str, second: str, metric: str) -> str:
         return (
-            f"the ratio of the mean {metric} of `{first}` to that of `{second}` (seeds both "
-            "ran) is lower at the largest last cell key than at the smallest, group by group; "
-            "reproduced if in every group, partly if in at least half"
+            f"the ratio `{first}` / `{second}` of the mean {metric} (seeds both ran) falls from "
+            "the smallest to the largest last key, per group; reproduced if in all, partly if half"
         )
 
     def judge(
@@ -543,30 +541,37 @@ class GapNarrows:
 
     def describe(self, first: str, second: str, metric: str) -> str:
         return (
-            f"the gap in the mean {metric} between `{first}` and `{second}` (seeds both ran), "
-            "at the largest last cell key against the smallest, as a difference and as a "
-            "ratio, group by group; reproduced if both shrink in every group, partly if the "
-            "difference shrinks in some"
+            f"the gap in the mean {metric} between `{first}` and `{second}` (seeds both ran) at "
+            "the largest last cell key against the smallest, as a difference and as a ratio, "
+            "group by group; reproduced if both shrink in every group, partly if the difference "
+            "shrinks in some"
         )
+
+    def gaps(
+        self, values: Values, first: str, second: str
+    ) -> dict[CellKey, tuple[tuple[Any, float, float], tuple[Any, float, float]]]:
+        """Per group: ``(last key, gap, ratio)`` at its smallest and largest last key."""
+        out = {}
+        for group, ((k0, a0, b0), (k1, a1, b1)) in _ends(values, first, second).items():
+            out[group] = ((k0, a0 - b0, _ratio(a0, b0)), (k1, a1 - b1, _ratio(a1, b1)))
+        return out
 
     def judge(
         self, values: Values, first: str, seconds: Sequence[str], digits: int
     ) -> tuple[Outcome, str]:
-        gap = both = 0
-        parts = []
-        for group, ((k0, a0, b0), (k1, a1, b1)) in _ends(values, first, seconds[0]).items():
-            shrinks = a1 - b1 < a0 - b0
-            gap, both = gap + shrinks, both + (shrinks and _ratio(a1, b1) < _ratio(a0, b0))
-            parts.append(
-                f"{_group_name(group)}: {k0}: {fmt(a0 - b0, digits)} (x{fmt(_ratio(a0, b0), 2)})"
-                f" -> {k1}: {fmt(a1 - b1, digits)} (x{fmt(_ratio(a1, b1), 2)})"
-            )
-        total = len(parts)
+        found = self.gaps(values, first, seconds[0])
+        gap = sum(g1 < g0 for (_, g0, _), (_, g1, _) in found.values())
+        both = sum(g1 < g0 and q1 < q0 for (_, g0, q0), (_, g1, q1) in found.values())
+        parts = [
+            f"{_group_name(group)}: {k0}: {fmt(g0, digits)} (x{fmt(q0, 2)}) -> {k1}: "
+            f"{fmt(g1, digits)} (x{fmt(q1, 2)})"
+            for group, ((k0, g0, q0), (k1, g1, q1)) in found.items()
+        ]
         outcome: Outcome = (
-            "reproduced" if total and both == total else "partly" if gap else "not reproduced"
+            "reproduced" if found and both == len(found) else "partly" if gap else "not reproduced"
         )
         return outcome, (
-            f"the gap shrinks in {gap}/{total} groups, the ratio too in {both}/{total}: "
+            f"the gap shrinks in {gap}/{len(found)} groups, the ratio too in {both}/{len(found)}: "
             + "; ".join(parts)
         )
 
