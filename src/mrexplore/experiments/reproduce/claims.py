@@ -268,6 +268,408 @@ class Trend:
         )
 
 
+def series_of(values: Values, arm: str) -> dict[CellKey, dict[Any, float]]:
+    """``group -> x -> mean`` of ``arm``: x is a cell key's last part, the group the
+    parts before it; in the caller's order.
+
+    >>> series_of({("t", 4): {"a": {1: 3.0}}, ("t", 8): {"a": {1: 1.0, 2: 2.0}}}, "a")
+    {('t',): {4: 3.0, 8: 1.5}}
+    """
+    out: dict[CellKey, dict[Any, float]] = {}
+    for cell, arms in values.items():
+        if arm in arms:
+            out.setdefault(cell[:-1], {})[cell[-1]] = _mean(arms[arm])
+    return out
+
+
+def series_text(series: Mapping[Any, float], digits: int = 0) -> str:
+    """``x:mean, ...`` of one series.
+
+    >>> series_text({4: 310.0, 8.0: 290.5}, 1)
+    '4:310.0, 8:290.5'
+    """
+    return ", ".join(f"{_x(x)}:{fmt(m, digits)}" for x, m in series.items())
+
+
+def _x(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, int | float) else str(value)
+
+
+def _group_name(group: CellKey) -> str:
+    return "/".join(map(str, group)) or "all"
+
+
+@dataclass(frozen=True)
+class PairedMostlyLower:
+    """The paired difference ``first - second`` (over the seeds both ran) has its
+    mean below 0 in every cell and its 95% CI below 0 in at least half of them
+    (reproduced); its mean below 0 in at least half (partly); else not reproduced.
+
+    >>> values = {(2,): {"a": {1: 1.0, 2: 2.0, 3: 1.5}, "b": {1: 5.0, 2: 6.0, 3: 5.0}},
+    ...           (5,): {"a": {1: 1.0, 2: 9.0}, "b": {1: 2.0, 2: 3.0}}}
+    >>> outcome, text = PairedMostlyLower().judge(values, "a", ["b"], 0)
+    >>> outcome, text.split(", 5:")[0]
+    ('partly', '`a` - `b` 2:-4 [-5, -3]')
+    >>> text.split("; ")[1]
+    'mean below 0 in 1/2 cells, 95% CI below 0 in 1/2'
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"paired difference of {metric}, `{first}` - `{second}`, cell by cell: reproduced "
+            "if its mean is below 0 in every cell and its 95% CI in at least half of them, "
+            "partly if its mean is below 0 in at least half, not reproduced otherwise"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        lower = sure = total = 0
+        texts = []
+        for second in seconds:
+            parts = []
+            for cell, arms in values.items():
+                if first in arms and second in arms:
+                    d = paired(arms, first, second)
+                    lower, sure, total = lower + (d.mean < 0), sure + (d.ci_high < 0), total + 1
+                    interval = f"[{fmt(d.ci_low, digits)}, {fmt(d.ci_high, digits)}]"
+                    parts.append(f"{_cell_name(cell)}:{fmt(d.mean, digits)} {interval}")
+            texts.append(f"`{first}` - `{second}` " + ", ".join(parts))
+        outcome: Outcome = (
+            "reproduced"
+            if total and lower == total and 2 * sure >= total
+            else "partly"
+            if total and 2 * lower >= total
+            else "not reproduced"
+        )
+        return outcome, (
+            "; ".join(texts) + f"; mean below 0 in {lower}/{total} cells, 95% CI below 0 in "
+            f"{sure}/{total}"
+        )
+
+
+@dataclass(frozen=True)
+class Monotone:
+    """The mean of every compared arm (``first`` and each of ``seconds``) falls (or
+    rises) at every step of the cells' last key, within each group of the other
+    parts (reproduced); every such series ends below (above) where it starts
+    (partly); otherwise not reproduced.
+
+    >>> values = {(n,): {"a": {1: 9.0 / n}, "b": {1: m}} for n, m in ((1, 8.0), (2, 6.0), (3, 7.0))}
+    >>> Monotone("falls").judge(values, "a", ["b"], 0)
+    ('partly', '`a` 1:9, 2:4, 3:3; `b` 1:8, 2:6, 3:7 x')
+    """
+
+    direction: str
+    """``falls`` or ``rises``."""
+
+    def _step(self, a: float, b: float) -> bool:
+        return b < a if self.direction == "falls" else b > a
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        arms = " / ".join(f"`{a}`" for a in (first, *second.split(" / ")) if a)
+        return (
+            f"mean {metric} of each of {arms} {self.direction} at every step of the last cell "
+            f"key: reproduced if every one does, partly if every one {self.direction} from the "
+            "first step to the last, not reproduced otherwise"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        every = ends = True
+        parts = []
+        count = 0
+        for arm in (first, *seconds):
+            for group, series in series_of(values, arm).items():
+                means = list(series.values())
+                steps = all(self._step(a, b) for a, b in itertools.pairwise(means))
+                every &= steps
+                ends &= len(means) > 1 and self._step(means[0], means[-1])
+                count += 1
+                label = f"`{arm}`" + (f" {_group_name(group)}" if group else "")
+                parts.append(f"{label} {series_text(series, digits)}" + ("" if steps else " x"))
+        outcome: Outcome = (
+            "not reproduced" if not count or not ends else "reproduced" if every else "partly"
+        )
+        return outcome, "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class RatioWithinFactor:
+    """``first`` is below ``second`` in every cell (partly) and the ratio of their
+    means, second / first, is within ``factor`` of the paper's in every cell
+    (reproduced); otherwise not reproduced. ``paper`` maps a cell to its ratio.
+
+    >>> rule = RatioWithinFactor(2.0, {("x",): 4.0, ("y",): 4.0})
+    >>> values = {(c,): {"a": {1: 10.0}, "b": {1: b}} for c, b in (("x", 50.0), ("y", 90.0))}
+    >>> rule.judge(values, "a", ["b"], 0)[0]
+    'partly'
+    >>> rule.judge(values, "a", ["b"], 0)[1].split("; ")[1]
+    'y: `b` 90 vs `a` 10, ratio 9.0 (paper 4.0) x'
+    """
+
+    factor: float
+    paper: Mapping[CellKey, float]
+    ratio_digits: int = 1
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"mean {metric} of `{first}` below that of `{second}` in every cell, and the ratio "
+            f"`{second}` / `{first}` within a factor {self.factor:g} of the paper's in every "
+            "cell: reproduced if both hold, partly if only the first, not reproduced otherwise"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        lower = within = bool(values)
+        parts = []
+        for cell, arms in values.items():
+            a, b = _mean(arms.get(first, {})), _mean(arms.get(seconds[0], {}))
+            ratio = b / a if a > 0 else math.inf
+            theirs = self.paper.get(cell, math.nan)
+            near = 1 / self.factor <= ratio / theirs <= self.factor
+            lower, within = lower and a < b, within and near
+            parts.append(
+                f"{_cell_name(cell)}: `{seconds[0]}` {fmt(b, digits)} vs `{first}` "
+                f"{fmt(a, digits)}, ratio "
+                f"{fmt(ratio, self.ratio_digits)} (paper {fmt(theirs, self.ratio_digits)})"
+                + ("" if near and a < b else " x")
+            )
+        outcome: Outcome = (
+            "reproduced" if lower and within else "partly" if lower else "not reproduced"
+        )
+        return outcome, "; ".join(parts)
+
+
+def _spearman(x: Sequence[float], y: Sequence[float]) -> float:
+    """Spearman's rank correlation (average ranks for ties); 0 if either is constant.
+
+    >>> _spearman([4, 8, 12], [30.0, 20.0, 10.0]), _spearman([1, 2], [3.0, 3.0])
+    (-1.0, 0.0)
+    """
+    import numpy as np
+    from scipy.stats import rankdata
+
+    rx, ry = rankdata(np.asarray(x, dtype=float)), rankdata(np.asarray(y, dtype=float))
+    if rx.std() == 0 or ry.std() == 0:
+        return 0.0
+    return float(np.corrcoef(rx, ry)[0, 1])
+
+
+@dataclass(frozen=True)
+class RankTrend:
+    """Within each group of the cell key but its last part, the mean of ``first``
+    ends below where it starts and Spearman's rank correlation between the last
+    part and the mean is at most ``-rho`` (``falls``; ``rises``: above, at least
+    ``rho``): in every group (reproduced), in at least half (partly).
+
+    >>> means = {"t": (3.0, 1.0, 2.0), "d": (3.0, 2.0, 1.0)}
+    >>> values = {(g, x): {"a": {1: m}} for g, ms in means.items() for x, m in zip((4, 8, 12), ms)}
+    >>> RankTrend("falls").judge(values, "a", [], 0)
+    ('partly', 't: 4:3, 8:1, 12:2 (Spearman rho -0.50) x; d: 4:3, 8:2, 12:1 (Spearman rho -1.00)')
+    """
+
+    direction: str
+    """``falls`` or ``rises``."""
+    rho: float = 0.6
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        falls = self.direction == "falls"
+        sign, bound = ("below", f"<= -{self.rho:g}") if falls else ("above", f">= {self.rho:g}")
+        return (
+            f"mean {metric} of `{first}` against the last cell key, in each group of the other "
+            f"parts: it ends {sign} where it starts and Spearman's rho is {bound}; reproduced "
+            "if in every group, partly if in at least half"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        count = 0
+        parts = []
+        groups = series_of(values, first)
+        for group, series in groups.items():
+            xs, means = list(series), list(series.values())
+            rho = _spearman(xs, means) if len(xs) > 1 else math.nan
+            ok = (
+                means[-1] < means[0] and rho <= -self.rho
+                if self.direction == "falls"
+                else means[-1] > means[0] and rho >= self.rho
+            )
+            count += ok
+            parts.append(
+                f"{_group_name(group)}: {series_text(series, digits)} (Spearman rho "
+                f"{fmt(rho, 2)})" + ("" if ok else " x")
+            )
+        return count_outcome(count, len(groups)), "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class WithMeans:
+    """``rule``, its evidence preceded by each compared arm's mean per cell."""
+
+    rule: Rule
+    mean_digits: int = 0
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return self.rule.describe(first, second, metric)
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        outcome, text = self.rule.judge(values, first, seconds, digits)
+        means = "; ".join(
+            f"{_cell_name(cell)} "
+            + ", ".join(
+                f"`{a}` {fmt(_mean(arms[a]), self.mean_digits)}"
+                for a in (first, *seconds)
+                if a in arms
+            )
+            for cell, arms in values.items()
+        )
+        return outcome, f"means {means}; {text}"
+
+
+@dataclass(frozen=True)
+class FallsFasterBelow:
+    """Within each group of the cell key but its last part (x), the mean of ``first``
+    falls per unit of x from the smallest x to ``pivot`` (the gain below, above 0)
+    faster than from ``pivot`` to the largest x (the gain above): in every group
+    (reproduced), in at least half (partly).
+
+    >>> values = {("t", x): {"a": {1: m}} for x, m in ((4, 400.0), (16, 280.0), (24, 272.0))}
+    >>> FallsFasterBelow(16, "cell").judge(values, "a", [], 2)
+    ('reproduced', 't: 10.00 per cell below 16 vs 1.00 above')
+    """
+
+    pivot: float
+    unit: str = "unit"
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"mean {metric} of `{first}` against the last cell key x, in each group of the "
+            f"other parts: gain per {self.unit} below {self.pivot:g} = (m(x_min) - "
+            f"m({self.pivot:g})) / ({self.pivot:g} - x_min), above = (m({self.pivot:g}) - "
+            f"m(x_max)) / (x_max - {self.pivot:g}); reproduced if the gain below is positive "
+            "and larger than above in every group, partly if in at least half"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        groups = series_of(values, first)
+        count = 0
+        parts = []
+        for group, m in groups.items():
+            low, high, pivot = min(m), max(m), self.pivot
+            below = above = math.nan
+            if pivot in m and low < pivot < high:
+                below = (m[low] - m[pivot]) / (pivot - low)
+                above = (m[pivot] - m[high]) / (high - pivot)
+            ok = below > 0 and below > above
+            count += ok
+            parts.append(
+                f"{_group_name(group)}: {fmt(below, digits)} per {self.unit} below {pivot:g} "
+                f"vs {fmt(above, digits)} above" + ("" if ok else " x")
+            )
+        return count_outcome(count, len(groups)), "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class FallsLess:
+    """Within each group of the cell key but its last part (x), the mean of ``first``
+    falls less from the smallest x to the largest than that of ``second`` (a rise
+    counts as less): in every group (reproduced), in at least half (partly).
+
+    >>> rows = ((4, 30.0, 34.0), (8, 29.0, 30.0))
+    >>> values = {("t", x): {"a": {1: a}, "b": {1: b}} for x, a, b in rows}
+    >>> FallsLess().judge(values, "a", ["b"], 0)
+    ('reproduced', 't: `a` falls by 1 vs `b` by 4')
+    """
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"fall of the mean {metric} from the smallest to the largest last cell key, "
+            f"m(x_min) - m(x_max), in each group of the other parts: reproduced if that of "
+            f"`{first}` is smaller than that of `{second}` in every group (a rise counts as "
+            "smaller), partly if in at least half"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        arms = (first, seconds[0])
+        series = [series_of(values, arm) for arm in arms]
+        groups = list(dict.fromkeys(g for s in series for g in s))
+        count = 0
+        parts = []
+        for group in groups:
+            a, b = (_fall(s.get(group, {})) for s in series)
+            ok = a < b
+            count += ok
+            parts.append(
+                f"{_group_name(group)}: `{arms[0]}` falls by {fmt(a, digits)} vs `{arms[1]}` "
+                f"by {fmt(b, digits)}" + ("" if ok else " x")
+            )
+        return count_outcome(count, len(groups)), "; ".join(parts)
+
+
+def _fall(series: Mapping[Any, float]) -> float:
+    return series[min(series)] - series[max(series)] if series else math.nan
+
+
+@dataclass(frozen=True)
+class FallAlong:
+    """The mean of every compared arm (``first`` and each of ``seconds``) falls at every
+    step of the cells, in the caller's order (reproduced); every one ends below where
+    it starts, or one falls at every step (partly); otherwise not reproduced. Unlike
+    :class:`Monotone`, it prints each arm's means beside the ``paper``'s (arm -> its
+    numbers, cell by cell), their change from the first cell to the last, and the
+    ``shown`` arms (not judged, 1 decimal).
+
+    >>> values = {(w,): {"a": {1: a}, "b": {1: b}} for w, a, b in ((0, 9.0, 9.0), (2, 6, 9.5))}
+    >>> FallAlong({"a": (5.0, 1.0)}).judge(values, "a", ["b"], 0)
+    ('partly', '`a` 9, 6 (paper 5, 1); `b` 9, 10; first to last: -33% `a`, +6% `b`')
+    """
+
+    paper: Mapping[str, Sequence[float]] = field(default_factory=dict)
+    shown: tuple[str, ...] = ()
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"mean {metric} of `{first}` and of `{second}` along the cells: reproduced if both "
+            "fall at every step, partly if both end below where they start or one falls at "
+            "every step, not reproduced otherwise"
+        )
+
+    def judge(
+        self, values: Values, first: str, seconds: Sequence[str], digits: int
+    ) -> tuple[Outcome, str]:
+        arms, n = (first, *seconds), len(values)
+        means = {
+            arm: [_mean(by_arm.get(arm, {})) for by_arm in values.values()]
+            for arm in (*arms, *self.shown)
+        }
+        falls = [all(b < a for a, b in itertools.pairwise(means[arm])) for arm in arms]
+        ends = n >= 2 and all(means[arm][-1] < means[arm][0] for arm in arms)
+        outcome: Outcome = "not reproduced"
+        if n >= 2 and (ends or any(falls)):
+            outcome = "reproduced" if all(falls) else "partly"
+
+        def column(arm: str, digits: int) -> str:
+            paper = ", ".join(fmt(p, digits) for p in self.paper.get(arm, ()))
+            text = f"`{arm}` " + ", ".join(fmt(m, digits) for m in means[arm])
+            return text + (f" (paper {paper})" if paper else "")
+
+        parts = [column(arm, digits) for arm in arms]
+        if n >= 2:
+            change = (f"{100 * (means[a][-1] / means[a][0] - 1):+.0f}% `{a}`" for a in arms)
+            parts.append("first to last: " + ", ".join(change))
+        return outcome, "; ".join(parts + [column(arm, 1) for arm in self.shown])
+
+
 _RELATIONS: dict[str, Callable[[float, float], bool]] = {
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b,
@@ -419,11 +821,19 @@ def robustness_section(
 __all__ = [
     "Claim",
     "Counted",
+    "FallAlong",
+    "FallsFasterBelow",
+    "FallsLess",
     "Interpretation",
+    "Monotone",
     "PairedLower",
+    "PairedMostlyLower",
+    "RankTrend",
+    "RatioWithinFactor",
     "Rule",
     "Trend",
     "Values",
+    "WithMeans",
     "WithinFactor",
     "claims_section",
     "count_outcome",
@@ -431,4 +841,6 @@ __all__ = [
     "paired",
     "robustness",
     "robustness_section",
+    "series_of",
+    "series_text",
 ]
