@@ -6,7 +6,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -193,33 +193,34 @@ LABELS = {
     "fig17": "time (ticks) and distance (cells)",
 }
 PAPER_RATIOS = {(f"w3={w3:g}",): p[0] / p[1] for w3, p in PAPER_TABLE4.items()}
-PAPER_COLUMNS = {
-    arm: [p[i] for p in PAPER_TABLE4.values()] for i, arm in enumerate(TRACKING.values())
-}
+_COLUMNS = list(zip(*PAPER_TABLE4.values(), strict=True))  # by w3: without, with, their sds
+PAPER_COLUMNS = {WITHOUT: _COLUMNS[0], WITH: _COLUMNS[1]}
 
 
-def _claim(id: str, metric: str, arms: Sequence[str], rule: Any, digits: int = 0) -> Claim:
+def _claim(
+    id: str, metric: str, first: str, second: str, rule: Any, *seconds: str, digits: int = 0
+) -> Claim:
     figure = id.split("_")[0]
     where = f"Fig. {figure[3:]}" if figure.startswith("fig") else f"Table {figure[5:]}"
     label = LABELS[metric.removesuffix("_teams")] + (", 2+ robots" if "_teams" in metric else "")
-    first, second, *seconds = (*arms, "")
-    args = (metric, label, first, second, rule, digits, tuple(seconds[:-1]))
+    args = (metric, label, first, second, rule, digits, seconds)
     return Claim(id, where, STATEMENTS[id], SENTENCES[id], *args)
 
 
 _LOWER, _W3 = claims.PairedMostlyLower(), (CASE_WITH, CASE_WITHOUT)
+_BELOW_16 = claims.FallsFasterBelow(COMM_RANGE, "cell")  # 16: the paper's own r_c
 CLAIMS = (
-    _claim("fig11", "diameter", _W3, claims.WithMeans(claims.PairedLower(), 1), 2),
-    _claim("fig12_team", "time", CASES, claims.Monotone("falls")),
-    _claim("fig12_bidding", "time", (CASE_WITHOUT, CASE_RANDOM), _LOWER),
-    _claim("fig12_nearness", "time_teams", _W3, _LOWER),
-    _claim("fig13_bidding", "distance", (CASE_WITHOUT, CASE_RANDOM), _LOWER),
-    _claim("fig13_nearness", "distance_teams", _W3, _LOWER),
-    _claim("table4_tracking", "table4", (WITH, WITHOUT), claims.RatioWithinFactor(2, PAPER_RATIOS)),
-    _claim("table4_w3", "table4", (WITH, WITHOUT), claims.FallAlong(PAPER_COLUMNS, (PARTITIONS,))),
-    _claim("fig17_falls", "fig17", (CASE_WITHOUT,), claims.RankTrend("falls", 0.6)),
-    _claim("fig17_below16", "fig17", (CASE_WITHOUT,), claims.FallsFasterBelow(16, "cell"), 2),
-    _claim("fig17_nearness", "fig17", _W3, claims.FallsLess()),
+    _claim("fig11", "diameter", *_W3, claims.WithMeans(claims.PairedLower(), 1), digits=2),
+    _claim("fig12_team", "time", CASE_RANDOM, CASE_WITHOUT, claims.Monotone("falls"), CASE_WITH),
+    _claim("fig12_bidding", "time", CASE_WITHOUT, CASE_RANDOM, _LOWER),
+    _claim("fig12_nearness", "time_teams", *_W3, _LOWER),
+    _claim("fig13_bidding", "distance", CASE_WITHOUT, CASE_RANDOM, _LOWER),
+    _claim("fig13_nearness", "distance_teams", *_W3, _LOWER),
+    _claim("table4_tracking", "table4", WITH, WITHOUT, claims.RatioWithinFactor(2, PAPER_RATIOS)),
+    _claim("table4_w3", "table4", WITH, WITHOUT, claims.FallAlong(PAPER_COLUMNS, (PARTITIONS,))),
+    _claim("fig17_falls", "fig17", CASE_WITHOUT, "", claims.RankTrend("falls", 0.6)),
+    _claim("fig17_below16", "fig17", CASE_WITHOUT, "", _BELOW_16, digits=2),
+    _claim("fig17_nearness", "fig17", *_W3, claims.FallsLess()),
 )
 
 # ------------------------------------------------------------ readings of the paper
@@ -329,16 +330,14 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
     """The paper's Table 4, the identical pairs and the bytes by message type."""
     from mrexplore.viz.plots import plot_bytes_by_type
 
-    ticks, both, pairs = (
-        values["table4 ticks"],
-        (values["table4 ticks"], values["table4 distance"]),
-        [],
-    )
+    ticks, distance, pairs = values["table4 ticks"], values["table4 distance"], []
     by_type: dict[str, dict[str, float]] = {}
     for cell, arms in ticks.items():
         seeds = set(arms.get(WITH, {})) & set(arms.get(WITHOUT, {}))
-        same = sum(all(v[cell][WITH][s] == v[cell][WITHOUT][s] for v in both) for s in seeds)
-        pairs.append(f"{cell[0]} {same}/{len(seeds)}")
+        alike = [
+            all(v[cell][WITH][s] == v[cell][WITHOUT][s] for v in (ticks, distance)) for s in seeds
+        ]
+        pairs.append(f"{cell[0]} {sum(alike)}/{len(seeds)}")
         for sharing, arm in TRACKING.items():
             stats = {t: render.summaries(values[f"table4 {t}"])[cell] for t in SYNC_TYPES[sharing]}
             means = {t: s[arm].mean for t, s in stats.items() if arm in s}
@@ -384,13 +383,13 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
             columns, digits = TABLES.get(key, (["robots"], 0))
             table = render.arm_table(values[key], ARMS, columns, digits=digits)
             lines += [f"**{LABELS[key]}**", "", *table, ""]
-        for name, (title, key, xlabel, ylabel) in FIGURES.items():
-            panels = render.panels_of(values[key], CASES, lambda c: "")  # one panel
-            labels: dict[str, Any] = {"xlabel": xlabel, "ylabel": ylabel, "colours": COLOURS}
-            if title.startswith(wheres) and render.lines_figure(
-                panels, out / name, title=title, **labels
-            ):
-                lines += [f"![{title}]({name})", ""]
+        for name, (caption, key, xlabel, ylabel) in FIGURES.items():
+            if caption.startswith(wheres):
+                panels = render.panels_of(values[key], CASES, lambda c: "")  # one panel
+                drawn = render.lines_figure(
+                    panels, out / name, xlabel=xlabel, ylabel=ylabel, title=caption, colours=COLOURS
+                )
+                lines += [f"![{caption}]({name})", ""] if drawn else []
         lines += _table4(values, out) if "Table 4" in wheres else []
     return render.write_report(out, lines, CLAIMS, values)
 
