@@ -268,12 +268,19 @@ class Trend:
         )
 
 
-# ------------------------------------------- graded rules, families of arms (meier2006)
+# ------------------------------------------- families of arms, graded cells (meier2006)
+
+Arms = Mapping[str, Mapping[int, float]]
+"""One cell of :data:`Values`: ``arm -> seed -> value``."""
+Judgement = tuple[Outcome, str]
+Grade = tuple[str, str] | None
+"""``holds`` / ``weak`` / ``fails`` and its evidence, or ``None`` to leave a cell out."""
+GRADED = "; reproduced if it holds in every cell, not reproduced if it fails in all, else partly"
 
 
 def family(arms: Mapping[str, Any], prefix: str) -> list[str]:
-    """The arms named ``<prefix> <number>`` (one parameter swept over arms: ``SR 0.1``,
-    ``SR 10``, ...), in the order of that number (:func:`level`).
+    """The arms named ``<prefix> <number>`` (a parameter swept over arms: ``SR 0.1``,
+    ``SR 10``, ...), in the order of that number, their :func:`level`.
 
     >>> family({"SR 10": {}, "full": {}, "SR 0.1": {}}, "SR")
     ['SR 0.1', 'SR 10']
@@ -286,185 +293,9 @@ def level(arm: str) -> float:
     return float(arm.rsplit(" ", 1)[-1])
 
 
-def graded(grades: Sequence[str]) -> Outcome:
-    """``holds`` / ``weak`` / ``fails`` per cell: reproduced if every cell holds, not
-    reproduced if every one fails (or none was graded), partly otherwise.
-
-    >>> graded(["holds", "holds"]), graded(["holds", "fails"]), graded([])
-    ('reproduced', 'partly', 'not reproduced')
-    """
-    if grades and all(g == "holds" for g in grades):
-        return "reproduced"
-    return "not reproduced" if all(g == "fails" for g in grades) else "partly"
-
-
-GRADED = "; reproduced if it holds in every cell, not reproduced if it fails in all, else partly"
-"""How :class:`Graded` rules combine their cells, for their ``describe``."""
-
-
-class Graded:
-    """Base of the rules that grade each cell (:meth:`grade`: ``holds`` / ``weak`` /
-    ``fails`` and its evidence, or ``None`` to leave the cell out) and combine the grades
-    with :func:`graded`. A comparison with nan is false: a missing number never holds."""
-
-    def grade(
-        self, arms: Mapping[str, Mapping[int, float]], first: str, second: str, digits: int
-    ) -> tuple[str, str] | None:
-        raise NotImplementedError
-
-    def judge(
-        self, values: Values, first: str, seconds: Sequence[str], digits: int
-    ) -> tuple[Outcome, str]:
-        """Graded against the first arm of ``seconds`` (or ``""``)."""
-        second = seconds[0] if seconds else ""
-        grades = [(c, self.grade(arms, first, second, digits)) for c, arms in values.items()]
-        done = [(c, g) for c, g in grades if g is not None]
-        text = "; ".join(f"{_cell_name(c)} {evidence}: {grade}" for c, (grade, evidence) in done)
-        return graded([grade for _, (grade, _) in done]), text or "no cell to judge"
-
-
-@dataclass(frozen=True)
-class PairedAbove(Graded):
-    """``first`` is above ``second`` seed by seed: the paired difference's 95% CI lies
-    above 0 (holds), only its mean (weak), neither (fails).
-
-    >>> values = {("m", 3): {"a": {1: 12.0, 2: 11.0}, "b": {1: 10.0, 2: 10.0}}}
-    >>> PairedAbove().judge(values, "a", ["b"], 0)
-    ('partly', 'm/3r 2 [-5, 8] (n 2): weak')
-    """
-
-    def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"paired difference of {metric}, `{first}` - `{second}`: its 95% CI above 0: holds; "
-            f"only its mean: weak{GRADED}"
-        )
-
-    def grade(
-        self, arms: Mapping[str, Mapping[int, float]], first: str, second: str, digits: int
-    ) -> tuple[str, str] | None:
-        d = paired(arms, first, second)
-        return "holds" if d.ci_low > 0 else "weak" if d.mean > 0 else "fails", _diff(d, digits)
-
-
-@dataclass(frozen=True)
-class RatioWithin(Graded):
-    """The mean of ``first`` is at most ``1 + close`` (holds) or ``1 + loose`` (weak) times
-    that of ``second``; cells without ``first`` are not graded.
-
-    >>> RatioWithin(0.15, 0.3).judge({("m", 3): {"a": {1: 12.0}, "b": {1: 10.0}}}, "a", ["b"], 0)
-    ('partly', 'm/3r 12 vs 10 (ratio 1.20): weak')
-    """
-
-    close: float
-    loose: float
-
-    def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"mean {metric} of `{first}` <= {1 + self.close:.2f} x that of `{second}`: holds; "
-            f"<= {1 + self.loose:.2f} x: weak{GRADED}"
-        )
-
-    def grade(
-        self, arms: Mapping[str, Mapping[int, float]], first: str, second: str, digits: int
-    ) -> tuple[str, str] | None:
-        if first not in arms:
-            return None
-        a, b = _mean(arms[first]), _mean(arms.get(second, {}))
-        grade = (
-            "holds"
-            if a <= (1 + self.close) * b
-            else "weak"
-            if a <= (1 + self.loose) * b
-            else "fails"
-        )
-        return grade, f"{fmt(a, digits)} vs {fmt(b, digits)} (ratio {fmt(_ratio(a, b), 2)})"
-
-
-@dataclass(frozen=True)
-class RatioGrows:
-    """The ratio of the means of ``first`` and ``second`` is larger in the last cell (for
-    instance the larger team) than in the first and above 1 (reproduced), only larger
-    (partly), or not (not reproduced).
-
-    >>> values = {("a", 3): {"x": {1: 9.0}, "y": {1: 10.0}},
-    ...           ("b", 5): {"x": {1: 12.0}, "y": {1: 10.0}}}
-    >>> RatioGrows().judge(values, "x", ["y"], 3)
-    ('reproduced', 'a/3r 0.900, b/5r 1.200')
-    """
-
-    def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"ratio of the mean {metric} of `{first}` to that of `{second}`: reproduced if larger "
-            "in the last cell than in the first and above 1, partly if only larger"
-        )
-
-    def judge(
-        self, values: Values, first: str, seconds: Sequence[str], digits: int
-    ) -> tuple[Outcome, str]:
-        ratios = {
-            c: _ratio(_mean(arms.get(first, {})), _mean(arms.get(seconds[0], {})))
-            for c, arms in values.items()
-        }
-        ends = list(ratios.values()) or [math.nan]
-        small, large = ends[0], ends[-1]
-        outcome: Outcome = (
-            "reproduced"
-            if large > max(small, 1)
-            else "partly"
-            if large > small
-            else "not reproduced"
-        )
-        return outcome, ", ".join(f"{_cell_name(c)} {fmt(r, digits)}" for c, r in ratios.items())
-
-
-@dataclass(frozen=True)
-class RatioBound:
-    """The mean of every arm of the :func:`family` ``first`` over the mean of ``second``, in
-    every cell, is at most ``bound`` (below it if ``strict``): reproduced; some is, or every
-    one is below ``loose``: partly. Further arms in ``seconds`` are shown, not judged.
-
-    >>> values = {("m", 2): {"SR 1": {1: 2.0}, "SR 9": {1: 6.0}, "raw": {1: 10.0}}}
-    >>> RatioBound(0.5, loose=1.0).judge(values, "SR", ["raw"], 2)
-    ('partly', 'm/2r vs `raw`: SR 1 0.20, SR 9 0.60')
-    """
-
-    bound: float
-    strict: bool = False
-    loose: float | None = None
-
-    def describe(self, first: str, second: str, metric: str) -> str:
-        judged = second.split(" / ")[0]
-        below = f"{'<' if self.strict else '<='} {self.bound:g}"
-        also = f" or all are < {self.loose:g}" if self.loose is not None else ""
-        return (
-            f"mean {metric} of each `{first} *` arm / that of `{judged}`, in every cell: "
-            f"reproduced if all are {below}, partly if some are{also}"
-            + (f" (`{second}` shown, the others not judged)" if judged != second else "")
-        )
-
-    def judge(
-        self, values: Values, first: str, seconds: Sequence[str], digits: int
-    ) -> tuple[Outcome, str]:
-        judged: list[float] = []
-        parts = []
-        for cell, arms in values.items():
-            for i, second in enumerate(seconds):
-                reference = _mean(arms.get(second, {}))
-                ratios = {a: _ratio(_mean(arms[a]), reference) for a in family(arms, first)}
-                judged += list(ratios.values()) if i == 0 else []
-                listed = ", ".join(f"{a} {fmt(r, digits)}" for a, r in ratios.items())
-                parts.append(f"{_cell_name(cell)} vs `{second}`: {listed}")
-        finite = [r for r in judged if math.isfinite(r)]
-        passes = [r < self.bound if self.strict else r <= self.bound for r in finite]
-        loose = self.loose is not None and finite and all(r < self.loose for r in finite)
-        outcome: Outcome = (
-            "reproduced"
-            if finite and len(finite) == len(judged) and all(passes)
-            else "partly"
-            if any(passes) or loose
-            else "not reproduced"
-        )
-        return outcome, "; ".join(parts)
+def family_means(arms: Arms, prefix: str) -> dict[str, float]:
+    """The mean of every arm of the :func:`family` ``prefix``, in its order."""
+    return {a: _mean(arms[a]) for a in family(arms, prefix)}
 
 
 def spearman(x: Sequence[float], y: Sequence[float]) -> float:
@@ -494,9 +325,78 @@ def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
     return 0 if not abs(rho) >= threshold else (1 if rho > 0 else -1)
 
 
-def family_means(arms: Mapping[str, Mapping[int, float]], prefix: str) -> dict[str, float]:
-    """The mean of every arm of the :func:`family` ``prefix``, in its order."""
-    return {a: _mean(arms[a]) for a in family(arms, prefix)}
+def graded(grades: Sequence[str]) -> Outcome:
+    """``holds`` / ``weak`` / ``fails`` per cell: reproduced if every cell holds, not
+    reproduced if every one fails (or none was graded), partly otherwise.
+
+    >>> graded(["holds", "holds"]), graded(["holds", "fails"]), graded([])
+    ('reproduced', 'partly', 'not reproduced')
+    """
+    if grades and all(g == "holds" for g in grades):
+        return "reproduced"
+    return "not reproduced" if all(g == "fails" for g in grades) else "partly"
+
+
+class Graded:
+    """Base of the rules that grade each cell (:meth:`grade`, against the first arm of
+    ``seconds``) and combine the grades with :func:`graded`. A comparison with nan is
+    false: a missing number never holds."""
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        raise NotImplementedError
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        second = seconds[0] if seconds else ""
+        grades = [(c, self.grade(arms, first, second, digits)) for c, arms in values.items()]
+        done = [(c, g) for c, g in grades if g is not None]
+        text = "; ".join(f"{_cell_name(c)} {evidence}: {grade}" for c, (grade, evidence) in done)
+        return graded([grade for _, (grade, _) in done]), text or "no cell to judge"
+
+
+@dataclass(frozen=True)
+class PairedAbove(Graded):
+    """``first`` is above ``second`` seed by seed: the paired difference's 95% CI lies
+    above 0 (holds), only its mean (weak), neither (fails).
+
+    >>> values = {("m", 3): {"a": {1: 12.0, 2: 11.0}, "b": {1: 10.0, 2: 10.0}}}
+    >>> PairedAbove().judge(values, "a", ["b"], 0)
+    ('partly', 'm/3r 2 [-5, 8] (n 2): weak')
+    """
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        d = paired(arms, first, second)
+        return "holds" if d.ci_low > 0 else "weak" if d.mean > 0 else "fails", _diff(d, digits)
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return f"paired {metric}, `{first}` - `{second}`: 95% CI above 0 holds, mean weak{GRADED}"
+
+
+@dataclass(frozen=True)
+class RatioWithin(Graded):
+    """The mean of ``first`` is at most ``1 + close`` (holds) or ``1 + loose`` (weak) times
+    that of ``second``; cells without ``first`` are left out.
+
+    >>> RatioWithin(0.15, 0.3).judge({("m", 3): {"a": {1: 12.0}, "b": {1: 10.0}}}, "a", ["b"], 0)
+    ('partly', 'm/3r 12 vs 10 (ratio 1.20): weak')
+    """
+
+    close: float
+    loose: float
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        if first not in arms:
+            return None
+        a, b = _mean(arms[first]), _mean(arms.get(second, {}))
+        text = f"{fmt(a, digits)} vs {fmt(b, digits)} (ratio {fmt(_ratio(a, b), 2)})"
+        return "holds" if a <= (1 + self.close) * b else "weak" if a <= (
+            1 + self.loose
+        ) * b else "fails", text
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        bounds = (
+            f"<= {1 + self.close:.2f} x that of `{second}` holds, <= {1 + self.loose:.2f} x weak"
+        )
+        return f"mean {metric} of `{first}` {bounds}{GRADED}"
 
 
 @dataclass(frozen=True)
@@ -512,6 +412,17 @@ class FallsAlong(Graded):
 
     rho: float
 
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        means = family_means(arms, first)
+        if not means:
+            return None
+        low, high = next(iter(means)), list(means)[-1]
+        rho = spearman([level(a) for a in means], list(means.values()))
+        d = paired(arms, low, high)
+        falls, sure = rho <= self.rho, d.ci_low > 0
+        grade = "holds" if falls and sure else "weak" if falls or sure or d.mean > 0 else "fails"
+        return grade, f"rho {fmt(rho, 2)}, {low} - {high} {_diff(d, digits)}"
+
     def describe(self, first: str, second: str, metric: str) -> str:
         return (
             f"Spearman rho(level, mean {metric} of `{first} *`) <= {self.rho:g} and the paired "
@@ -519,25 +430,12 @@ class FallsAlong(Graded):
             f"or only that difference's mean above 0: weak{GRADED}"
         )
 
-    def grade(
-        self, arms: Mapping[str, Mapping[int, float]], first: str, second: str, digits: int
-    ) -> tuple[str, str] | None:
-        means = family_means(arms, first)
-        if not means:
-            return None
-        levels = list(means)
-        rho = spearman([level(a) for a in levels], list(means.values()))
-        d = paired(arms, levels[0], levels[-1])
-        falls, sure = rho <= self.rho, d.ci_low > 0
-        grade = "holds" if falls and sure else "weak" if falls or sure or d.mean > 0 else "fails"
-        return grade, f"rho {fmt(rho, 2)}, {levels[0]} - {levels[-1]} {_diff(d, digits)}"
-
 
 @dataclass(frozen=True)
 class ConvergesAtTop(Graded):
     """At the highest level of the :func:`family` ``first`` the mean is that of ``second``:
     the paired difference within ``tolerance`` of the mean of ``second`` and its 95% CI
-    holding 0 (holds, "no significant difference"); one of the two (weak).
+    holding 0 (holds: "no significant difference"); one of the two (weak).
 
     >>> arms = {"SR 1": {1: 30.0}, "SR 10": {1: 21.0, 2: 19.0}, "full": {1: 20.0, 2: 20.0}}
     >>> ConvergesAtTop(0.1).judge({("m", 3): arms}, "SR", ["full"], 0)
@@ -546,27 +444,102 @@ class ConvergesAtTop(Graded):
 
     tolerance: float
 
-    def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"|paired {metric} difference, highest-level `{first} *` - `{second}`| <= "
-            f"{self.tolerance:.0%} of the mean of `{second}` and its 95% CI holding 0: holds; one "
-            f"of the two: weak{GRADED}"
-        )
-
-    def grade(
-        self, arms: Mapping[str, Mapping[int, float]], first: str, second: str, digits: int
-    ) -> tuple[str, str] | None:
-        levels = family(arms, first)
-        if not levels:
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        top = family(arms, first)[-1:]
+        if not top:
             return None
-        d, reference = paired(arms, levels[-1], second), _mean(arms.get(second, {}))
+        d, reference = paired(arms, top[0], second), _mean(arms.get(second, {}))
         close, known = abs(d.mean) <= self.tolerance * reference, math.isfinite(d.ci_low)
         zero_in = not known or d.ci_low <= 0 <= d.ci_high
         grade = (
             "holds" if close and zero_in else "weak" if close or (known and zero_in) else "fails"
         )
-        text = f"{levels[-1]} - `{second}` {_diff(d, digits)} vs {fmt(reference, digits)}"
+        text = f"{top[0]} - `{second}` {_diff(d, digits)} vs {fmt(reference, digits)}"
         return grade if math.isfinite(d.mean + reference) else "fails", text
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"|paired {metric}, highest-level `{first} *` - `{second}`| <= {self.tolerance:.0%} "
+            f"of the mean of `{second}` and its 95% CI holding 0: holds; one of them: weak{GRADED}"
+        )
+
+
+@dataclass(frozen=True)
+class RatioGrows:
+    """The ratio of the means of ``first`` and ``second`` is larger in the last cell (for
+    instance the larger team) than in the first and above 1 (reproduced), only larger
+    (partly), or not (not reproduced).
+
+    >>> values = {("a", 3): {"x": {1: 9.0}, "y": {1: 10.0}},
+    ...           ("b", 5): {"x": {1: 12.0}, "y": {1: 10.0}}}
+    >>> RatioGrows().judge(values, "x", ["y"], 3)
+    ('reproduced', 'a/3r 0.900, b/5r 1.200')
+    """
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        ratios = {
+            c: _ratio(_mean(a.get(first, {})), _mean(a.get(seconds[0], {})))
+            for c, a in values.items()
+        }
+        ends = list(ratios.values()) or [math.nan]
+        small, large = ends[0], ends[-1]
+        outcome: Outcome = (
+            "reproduced"
+            if large > max(small, 1)
+            else "partly"
+            if large > small
+            else "not reproduced"
+        )
+        return outcome, ", ".join(f"{_cell_name(c)} {fmt(r, digits)}" for c, r in ratios.items())
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"ratio of the mean {metric} of `{first}` to that of `{second}`: reproduced if larger "
+            "in the last cell than in the first and above 1, partly if only larger"
+        )
+
+
+@dataclass(frozen=True)
+class RatioBound:
+    """The mean of every arm of the :func:`family` ``first`` over the mean of ``second``, in
+    every cell, is at most ``bound`` (below it if ``strict``): reproduced; some is, or every
+    one is below ``loose``: partly. Further arms in ``seconds`` are shown, not judged.
+
+    >>> values = {("m", 2): {"SR 1": {1: 2.0}, "SR 9": {1: 6.0}, "raw": {1: 10.0}}}
+    >>> RatioBound(0.5, loose=1.0).judge(values, "SR", ["raw"], 2)
+    ('partly', 'm/2r vs `raw`: SR 1 0.20, SR 9 0.60')
+    """
+
+    bound: float
+    strict: bool = False
+    loose: float | None = None
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        judged: list[float] = []
+        parts = []
+        for cell, arms in values.items():
+            for i, second in enumerate(seconds):
+                reference = _mean(arms.get(second, {}))
+                ratios = {a: _ratio(m, reference) for a, m in family_means(arms, first).items()}
+                judged += list(ratios.values()) if i == 0 else []
+                listed = ", ".join(f"{a} {fmt(r, digits)}" for a, r in ratios.items())
+                parts.append(f"{_cell_name(cell)} vs `{second}`: {listed}")
+        finite = [r for r in judged if math.isfinite(r)]
+        passes = [r < self.bound if self.strict else r <= self.bound for r in finite]
+        loose = self.loose is not None and finite and all(r < self.loose for r in finite)
+        outcome: Outcome = "partly" if any(passes) or loose else "not reproduced"
+        if finite and len(finite) == len(judged) and all(passes):
+            outcome = "reproduced"
+        return outcome, "; ".join(parts)
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        judged, below = second.split(" / ")[0], f"{'<' if self.strict else '<='} {self.bound:g}"
+        also = f" or all are < {self.loose:g}" if self.loose is not None else ""
+        shown = f" (`{second}` shown, the others not judged)" if judged != second else ""
+        return (
+            f"mean {metric} of each `{first} *` arm / that of `{judged}`, in every cell: "
+            f"reproduced if all are {below}, partly if some are{also}{shown}"
+        )
 
 
 @dataclass(frozen=True)
@@ -586,16 +559,7 @@ class TrendsAsPaper:
     threshold: float
     enough: int
 
-    def describe(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"sign of Spearman rho(level, mean {metric} of `{first} *`), 0 if |rho| < "
-            f"{self.threshold:g}, column by column, as the paper's: reproduced if in all, partly "
-            f"if in >= {self.enough}"
-        )
-
-    def judge(
-        self, values: Values, first: str, seconds: Sequence[str], digits: int
-    ) -> tuple[Outcome, str]:
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
         signs: dict[str, tuple[int, int]] = {}
         for column in next(iter(self.paper.values()), {}):
             theirs = [row[column] for row in self.paper.values()]
@@ -605,15 +569,16 @@ class TrendsAsPaper:
                 trend_sign([level(a) for a in ours], list(ours.values()), self.threshold),
             )
         agree = sum(a == b for a, b in signs.values())
-        outcome: Outcome = (
-            "reproduced"
-            if agree == len(signs)
-            else "partly"
-            if agree >= self.enough
-            else "not reproduced"
-        )
+        outcome: Outcome = "partly" if agree >= self.enough else "not reproduced"
         listed = ", ".join(f"{c} {a:+d}/{b:+d}" for c, (a, b) in signs.items())
-        return outcome, f"trend signs paper/ours: {listed}"
+        return "reproduced" if agree == len(signs) else outcome, f"trend signs paper/ours: {listed}"
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"sign of Spearman rho(level, mean {metric} of `{first} *`), 0 if |rho| < "
+            f"{self.threshold:g}, column by column, as the paper's: reproduced if in all, partly "
+            f"if in >= {self.enough}"
+        )
 
 
 @dataclass(frozen=True)
@@ -636,16 +601,12 @@ class AtEnds:
             f"level and <= {self.low:g} at the highest: reproduced; one of the two: partly"
         )
 
-    def judge(
-        self, values: Values, first: str, seconds: Sequence[str], digits: int
-    ) -> tuple[Outcome, str]:
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
         means = family_means(values.get((self.column,), {}), first) or {"-": math.nan}
-        levels = list(means)
-        lowest, highest = levels[0], levels[-1]
-        met = (means[lowest] >= self.high) + (means[highest] <= self.low)
+        ends = [next(iter(means)), list(means)[-1]]
+        met = (means[ends[0]] >= self.high) + (means[ends[1]] <= self.low)
         outcome: Outcome = "reproduced" if met == 2 else "partly" if met else "not reproduced"
-        ends = f"{lowest} {fmt(means[lowest], digits)}, {highest} {fmt(means[highest], digits)}"
-        return outcome, f"{self.column}: {ends}"
+        return outcome, f"{self.column}: " + ", ".join(f"{a} {fmt(means[a], digits)}" for a in ends)
 
 
 @dataclass(frozen=True)
@@ -662,25 +623,21 @@ class FallsNearPaper:
     paper: Mapping[float, float]
     factor: float
 
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        arms = next(iter(values.values()), {})
+        ours = {x: _mean(arms.get(f"{first} {x:g}", {})) for x in sorted(self.paper)}
+        steps = itertools.pairwise(ours.values())
+        falls = all(map(math.isfinite, ours.values())) and all(a > b for a, b in steps)
+        within = all(p / self.factor <= ours[x] <= p * self.factor for x, p in self.paper.items())
+        outcome: Outcome = "partly" if falls else "not reproduced"
+        text = ", ".join(f"{first} {x:g} {fmt(v, digits)}" for x, v in ours.items())
+        return "reproduced" if falls and within else outcome, text
+
     def describe(self, first: str, second: str, metric: str) -> str:
         return (
             f"mean {metric} of `{first} *` at the paper's levels: reproduced if it falls strictly "
             f"and each is within a factor {self.factor:g} of the paper's, partly if it only falls"
         )
-
-    def judge(
-        self, values: Values, first: str, seconds: Sequence[str], digits: int
-    ) -> tuple[Outcome, str]:
-        arms = next(iter(values.values()), {})
-        ours = {x: _mean(arms.get(f"{first} {x:g}", {})) for x in sorted(self.paper)}
-        falls = all(map(math.isfinite, ours.values())) and all(
-            a > b for a, b in itertools.pairwise(ours.values())
-        )
-        within = all(p / self.factor <= ours[x] <= p * self.factor for x, p in self.paper.items())
-        outcome: Outcome = (
-            "reproduced" if falls and within else "partly" if falls else "not reproduced"
-        )
-        return outcome, ", ".join(f"{first} {x:g} {fmt(v, digits)}" for x, v in ours.items())
 
 
 def _diff(d: Summary, digits: int) -> str:

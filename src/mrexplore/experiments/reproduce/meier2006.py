@@ -1,14 +1,14 @@
-"""Reproduction of Meier, Stachniss and Burgard (ECMR 2005; the id says 2006): exploration
-over polygonal maps sent through a link of limited bandwidth. Arms: ``SR <split rate>``
-(``meier-polygon``, ``polygon`` sharing), and with ``full`` sharing ``centralised``
-(``burgard``) and ``no-approximation`` (``meier-polygon``). Raw scans are computed, not sent.
-"""
+"""Meier, Stachniss and Burgard (ECMR 2005; the id says 2006): exploration over polygonal
+maps sent through a link of limited bandwidth. Arms: ``SR <split rate>`` (``meier-polygon``,
+``polygon`` sharing); with ``full`` sharing ``centralised`` (``burgard``) and
+``no-approximation`` (``meier-polygon``). Raw scans are computed, not sent."""
 
 from __future__ import annotations
 
 import json
 import math
 from collections.abc import Mapping, Sequence
+from operator import itemgetter
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +53,7 @@ PAPER_TABLE2 = {0.1: 8.92, 1.0: 0.86, 10.0: 0.19}
 #: §5.2: "around 7.500 integers per second and robot" give a result similar to the
 #: centralised approach's "about 200.000 integers per second" (Fig. 7 has no numbers).
 PAPER_INTS_PER_S_ROBOT, PAPER_CENTRAL_INTS_PER_S = 7_500, 200_000
+PAPER_RATIO = PAPER_CENTRAL_INTS_PER_S / PAPER_INTS_PER_S_ROBOT
 
 # ----------------------------------------------------------------------- settings
 
@@ -72,10 +73,6 @@ FIXED: dict[str, Any] = {
 }
 
 
-Cell = tuple[str, int]
-"""A setting of the paper: ``(map, robots)``."""
-
-
 def stores(quick: bool) -> dict[str, tuple[tuple[str, ...], int, tuple[float, ...], range]]:
     """Experiment prefix -> maps, team size, split rates, seeds (Fig. 6 rows 1, 2; Fig. 7)."""
     if quick:  # both maps in one store, Fig. 7 from the 3-robot unstructured runs
@@ -87,7 +84,7 @@ def stores(quick: bool) -> dict[str, tuple[tuple[str, ...], int, tuple[float, ..
     }
 
 
-def roles(quick: bool) -> tuple[Cell, Cell, Cell]:
+def roles(quick: bool) -> tuple[tuple[str, int], ...]:
     """The settings of Fig. 6 row 1 (also Tables 1 and 2), row 2 and Fig. 7."""
     return ("unstructured", 3), ("corridor", 3 if quick else 5), ("unstructured", 3 if quick else 2)
 
@@ -168,21 +165,17 @@ def share(package: str) -> Metric:
     return lambda row: package_shares(row)[package]
 
 
-def per_tick_robot(metric: Metric) -> Metric:
-    return lambda row: metric(row) / ((int(row["ticks"]) + 1) * int(row["robots"]))
-
-
+_cell = itemgetter("map", "robots")  # the setting of a run
 _COORDINATION = render.bytes_of(("TPT", "status", "assign"))  # all but map sharing
 #: The numbers of a run; the ``raw*`` ones are meant for the centralised runs.
 METRICS: dict[str, Metric] = {
     "time": lambda row: math.nan if row.get("T99") is None else float(row["T99"]),
     "reached": render.reached("T99"),
     "bytes": render.column("bytes_total"),
-    "rate": per_tick_robot(render.column("bytes_total")),
+    "rate": lambda row: number(row, "bytes_total") / ((row["ticks"] + 1) * row["robots"]),
     "map_bytes": lambda row: number(row, "bytes_total") - _COORDINATION(row),
     RAW: centralised_raw_bytes,
     RAW_HALF: lambda row: centralised_raw_bytes(row, SCAN_BEAMS_HALF),
-    "raw rate": per_tick_robot(centralised_raw_bytes),
 }
 #: The numbers of a polygon run (Tables 1 and 2).
 POLYGON_METRICS: dict[str, Metric] = {
@@ -193,8 +186,7 @@ POLYGON_METRICS: dict[str, Metric] = {
 
 # ------------------------------------------------------------------ the paper's claims
 
-Judged = tuple[str, str, str, str, claims.Rule, int, tuple[str, ...]]
-"""Metric, its label, first arm, second arm, rule, digits, arms shown too."""
+Judged = tuple[str, str, str, str, claims.Rule, int, tuple[str, ...]]  # Claim.metric to .seconds
 _T99 = ("time", "T99 (ticks)")
 #: (id, where) -> the claim in our words, the paper's words, how it is judged. Time claims
 #: read Fig. 6's settings; Tables 1 and 2 the 3-robot unstructured runs.
@@ -206,19 +198,17 @@ CLAIMED: dict[tuple[str, str], tuple[str, str, Judged]] = {
     ),
     ("converge", "Fig. 6, §5.1, §6"): (
         "with more bandwidth the polygon method converges to coordination without approximation",
-        "converges towards ... the decentralized coordination approach without polygonal "
-        "approximations; no significant difference",
+        "for an increasing communication link bandwidth the performance of our approach converges",
         (*_T99, SR, EXACT, claims.ConvergesAtTop(0.10), 0, ()),
     ),
     ("slower", "§4, §5.1"): (
         "decentralised coordination explores slower than centralised Burgard et al.",
-        "the decentralized coordination leads to worse results than the original centralized one",
+        "decentralized coordination leads to worse results than the original centralized approach",
         (*_T99, EXACT, CENTRALISED, claims.PairedAbove(), 0, ()),
     ),
     ("advantage", "§5.1"): (
         "the advantage of centralised coordination grows with the team (the maps differ too)",
-        "The relative advantage of the original coordination mechanism ... increases with the "
-        "number of robots.",
+        "The relative advantage ... increases with the number of robots.",
         (*_T99, EXACT, CENTRALISED, claims.RatioGrows(), 3, ()),
     ),
     ("similar", "§5.2"): (
@@ -227,9 +217,9 @@ CLAIMED: dict[tuple[str, str], tuple[str, str, Judged]] = {
         (*_T99, f"{SR} {LOW_SPLIT_RATE:g}", CENTRALISED, claims.RatioWithin(0.15, 0.30), 0, ()),
     ),
     ("tpt", "Table 1, §5.3"): (
-        "goal points (TPT) are a high share of the traffic at low split rates, negligible at high",
-        "at low SR the goal points cause a high amount of the overall traffic (33.12%; Table 1: "
-        "31.12% at 0.04), whereas this can be neglected at high rates (0.76% at 25)",
+        "goal points (TPT) are a high share of the traffic at low split rates (paper: 31.12% at SR "
+        "0.04), negligible at high ones (0.76% at 25)",
+        "the transmission of the goal points causes a high amount of the overall traffic (33.12%)",
         ("shares", "share of bytes (%)", SR, "", claims.AtEnds("TPT", 20.0, 5.0), 1, ()),
     ),
     ("trends", "Table 1"): (
@@ -238,14 +228,13 @@ CLAIMED: dict[tuple[str, str], tuple[str, str, Judged]] = {
         ("shares", "share of bytes", SR, "", claims.TrendsAsPaper(PAPER_TABLE1, 0.3, 3), 0, ()),
     ),
     ("error", "Table 2, §5.4"): (
-        "the higher the split rate, the lower the average approximation error",
-        "the higher the SR the lower is the average approximation error (8.92, 0.86, 0.19%)",
+        "the higher the split rate, the lower the error (paper: 8.92, 0.86, 0.19% at 0.1, 1, 10)",
+        "the higher the SR the lower is the average approximation error",
         ("error", "error (%)", SR, "", claims.FallsNearPaper(PAPER_TABLE2, 2.0), 2, ()),
     ),
     ("fragment", "Fig. 7, §5.3"): (
         "polygons need only a fragment of the traffic of raw scans, even at high split rates",
-        "Even in the case of high approximation refinement rates, our approach requires only a "
-        "fragment of the network traffic compared to the centralized coordination algorithm.",
+        "Even in the case of high ... refinement rates, our approach requires only a fragment",
         ("traffic", "bytes", SR, RAW, claims.RatioBound(0.5, loose=1.0), 3, (RAW_HALF,)),
     ),
     ("cheaper", "§2"): (
@@ -254,19 +243,16 @@ CLAIMED: dict[tuple[str, str], tuple[str, str, Judged]] = {
         ("map_bytes", "map bytes", SR, EXACT, claims.RatioBound(1.0, strict=True), 2, ()),
     ),
 }
-CLAIMS = tuple(
-    Claim(name, where, said, words, *how) for (name, where), (said, words, how) in CLAIMED.items()
-)
+CLAIMS = tuple(Claim(i, at, ours, paper, *how) for (i, at), (ours, paper, how) in CLAIMED.items())
 
 _BOTH = ("meier-polygon", "burgard")
 #: Choices the paper leaves open (docs/reproductions/meier2006.md); claims are judged under each.
 INTERPRETATIONS = (
     Interpretation(
         "replan-on-arrival",
-        '§4 "Whenever a robot selects a new target location, it broadcasts its decision" (when '
-        "it selects one is not said)",
-        "a robot selects a new target only on arrival (or blocked), not also once its target is "
-        "explored: `replan_on_target_explored=false` in both arms",
+        '§4 "Whenever a robot selects a new target location, it broadcasts its decision"',
+        "a robot selects a new target (the paper does not say when) only on arrival or blocked, "
+        "not also once its target is explored: `replan_on_target_explored=false`, both arms",
         {"replan_on_target_explored": False},
         _BOTH,
     ),
@@ -281,8 +267,7 @@ INTERPRETATIONS = (
     Interpretation(
         "raw-path-cost",
         "§4 \"V_t' refers to the cost of reaching target location t'\" (traded by beta, no value)",
-        "V is the path length in cells (beta 1), not scaled to [0, 1] per robot "
-        "(`normalize_cost=false` in both arms)",
+        "V is the path length in cells, not scaled to [0, 1] (`normalize_cost=false`, both arms)",
         {"normalize_cost": False},
         _BOTH,
     ),
@@ -291,24 +276,16 @@ INTERPRETATIONS = (
 # ------------------------------------------------------------------------ tables
 
 
-def _cell(row: Row) -> tuple[str, int]:
-    return (str(row["map"]), int(row["robots"]))
-
-
 def run_values(rows: Sequence[Row], quick: bool) -> dict[str, dict[Any, dict[str, Any]]]:
     """``metric -> (map, robots) -> arm -> seed -> value``, settings in the paper's order;
-    ``bytes`` and ``rate`` also with the raw-scan arms of the centralised runs."""
+    ``bytes`` also with the raw-scan arms of the centralised runs."""
     order = list(dict.fromkeys(roles(quick)))
     polygon = [row for row in rows if row.get("sharing") == "polygon"]
     values = render.tabulate(rows, METRICS, _cell, arm_of, order.index)
     values |= render.tabulate(polygon, POLYGON_METRICS, _cell, arm_of, order.index)
-    for into, arm, metric in (
-        ("bytes", RAW, RAW),
-        ("bytes", RAW_HALF, RAW_HALF),
-        ("rate", RAW, "raw rate"),
-    ):
-        for cell, arms in values[metric].items():
-            values[into][cell].update({arm: arms[CENTRALISED]} if CENTRALISED in arms else {})
+    for arm in (RAW, RAW_HALF):
+        for cell, arms in values[arm].items():
+            values["bytes"][cell].update({arm: arms[CENTRALISED]} if CENTRALISED in arms else {})
     return values
 
 
@@ -330,23 +307,16 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
 
 # ------------------------------------------------------------------------ report
 
-QUICK_NOTE = (
-    "40 x 40 maps, one seed, split rates 0.1, 1, 10, 3 robots on both maps, Fig. 7 from them"
-)
+QUICK_NOTE = "40 x 40 maps, 1 seed, split rates 0.1, 1, 10, 3 robots on both maps, Fig. 7 from them"
 NOTES = (
-    "Tables 1 and 2 come from the 3-robot unstructured runs (the paper does not say which); a "
-    "package share is a run's bytes of that type over all its bytes (headers included).",
-    "Raw scans are computed, not sent (with unlimited bandwidth that changes nothing else); a "
-    "scan per tick is a slow laser, so the estimate favours the centralised approach.",
+    "Tables 1, 2: the 3-robot unstructured runs (the paper does not say); shares count headers.",
+    "Raw scans are computed, not sent; a scan per tick is a slow laser: it favours centralised.",
 )
-
-
 TRAFFIC = (
-    f"Paper (§5.2): ~{PAPER_INTS_PER_S_ROBOT:,} integers/s per robot give a result similar to "
-    f"~{PAPER_CENTRAL_INTS_PER_S:,} integers/s centralised (ratio "
-    f"{PAPER_CENTRAL_INTS_PER_S / PAPER_INTS_PER_S_ROBOT:.1f}). Ours (an integer is 4 B; `raw`, "
-    f"`raw-181`: the centralised runs with raw scans of {SCAN_BEAMS}, {SCAN_BEAMS_HALF} beams), "
-    f"team raw-scan rate / polygon rate per robot at SR {LOW_SPLIT_RATE:g}: "
+    f"Paper (§5.2): ~{PAPER_INTS_PER_S_ROBOT:,} integers/s per robot give a result like "
+    f"~{PAPER_CENTRAL_INTS_PER_S:,} centralised ({PAPER_RATIO:.1f} x). Ours "
+    f"(`raw`, `raw-181`: centralised with scans of {SCAN_BEAMS}, {SCAN_BEAMS_HALF} beams): team "
+    f"raw-scan rate / polygon rate per robot (4 B an integer) at SR {LOW_SPLIT_RATE:g}: "
 )
 
 
@@ -369,7 +339,8 @@ runs | not given | {seeds} seeds, start `together`, at most {ticks} ticks"""
     return render.settings_table([(a, b, c) for a, b, c in lines], NOTES)
 
 
-COLOURS = {"polygon": "#17becf", CENTRALISED: "#1f77b4", EXACT: "#555555", RAW: "#d62728"}
+COLOURS = {"polygon": "#17becf", "ours": "#17becf", "paper": "#999999", CENTRALISED: "#1f77b4"}
+COLOURS |= {EXACT: "#555555", RAW: "#d62728", RAW_HALF: "#ff7f0e"}
 ARMS = [*(f"{SR} {r:g}" for r in PAPER_TABLE1), CENTRALISED, EXACT, RAW, RAW_HALF]
 
 
@@ -382,26 +353,19 @@ def _name(cell: Any) -> str:
 
 
 def _xs(arms: Mapping[str, Summary], flat: Sequence[str] = ()) -> dict[str, Any]:
-    """The lines of a :func:`render.lines_figure` panel: the ``SR`` arms against log10
-    split rate, each ``flat`` arm level across."""
+    """A :func:`render.lines_figure` panel: ``SR`` arms by log10 rate, ``flat`` arms level."""
     xs = {round(math.log10(level(a)), 2): arms[a] for a in family(arms, SR)}
     return {"polygon": xs, **{a: dict.fromkeys(xs, arms[a]) for a in flat if a in arms}}
 
 
 def _with_paper(ours: Mapping[str, Summary], paper: Mapping[float, float]) -> dict[str, Any]:
     theirs = {f"{SR} {r:g}": summarize_metric([v]) for r, v in paper.items()}
-    return {**_xs(ours), "paper": _xs(theirs)["polygon"]}
+    return {"ours": _xs(ours)["polygon"], "paper": _xs(theirs)["polygon"]}
 
 
-def _figure(out: Path, name: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
-    title = name.removesuffix(".png").replace("_", " ")
-    kw: dict[str, Any] = {
-        "xlabel": "log10 split rate (splits/s)",
-        "ylabel": ylabel,
-        "title": title,
-        "log": log,
-    }
-    path = render.lines_figure(panels, out / name, colours=COLOURS, **kw)
+def _figure(out: Path, name: str, title: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
+    axes: dict[str, Any] = {"xlabel": "log10 split rate (splits/s)", "ylabel": ylabel}
+    path = render.lines_figure(panels, out / name, title=title, colours=COLOURS, log=log, **axes)
     return [f"![{title}]({name})", ""] if path else []
 
 
@@ -424,7 +388,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     lines += ["Ours: T99 (ticks); `*`: some runs never reached 99% and are left out.", ""]
     lines += _table(t["time"], flags=flags)
     panels = {_name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
-    lines += _figure(out, "fig6_exploration_time.png", panels, "T99 (ticks)")
+    lines += _figure(out, "fig6_exploration_time.png", "Fig. 6", panels, "T99 (ticks)")
     lines += ["## Traffic (§2, §5.2, §5.3, Fig. 7)", "", TRAFFIC + ", ".join(ratios), ""]
     for text, metric, digits in (
         ("Bytes per tick per robot", "rate", 1),
@@ -433,27 +397,23 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     ):
         lines += [f"{text}:", "", *_table(values[metric], digits=digits)]
     panels = {_name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
-    lines += _figure(out, "fig7_traffic.png", panels, "bytes per run", log=True)
+    lines += _figure(out, "fig7_traffic.png", "Fig. 7", panels, "bytes per run", log=True)
     paper1 = [[f"{r:g}", *(f"{v:.2f}" for v in row.values())] for r, row in PAPER_TABLE1.items()]
-    lines += ["## Table 1: share (%) of the traffic by package type", "", "Paper:", ""]
-    lines += [
-        *render.table(["SR", *PACKAGE_TYPES], paper1),
-        "",
-        f"Ours ({one[0]}, {one[1]} robots):",
-        "",
-    ]
+    lines += ["## Table 1: share (%) of the bytes by package type", "", "Paper:", ""]
+    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({_name(one)}):", ""]
     lines += _table(t["shares"], ["package"], digits=2)
     panels = {
         p: _with_paper(s["shares"][(p,)], {r: row[p] for r, row in PAPER_TABLE1.items()})
         for p in PACKAGE_TYPES
     }
-    lines += _figure(out, "table1_package_shares.png", panels, "share of bytes (%)")
-    errors = {("mean over the run",): t["error"][one], ("at the end",): values["error_end"][one]}
+    lines += _figure(out, "table1_package_shares.png", "Table 1", panels, "share of bytes (%)")
+    end = values["error_end"].get(one, {})
+    errors = {("mean over the run",): t["error"][one], ("at the end",): end}
     paper2 = ", ".join(f"SR {r:g}: {v}" for r, v in PAPER_TABLE2.items())
     lines += ["## Table 2: approximation error (%)", "", f"Paper: {paper2}.", ""]
     lines += _table(errors, ["error"], digits=2)
     panels = {"Table 2": _with_paper(s["error"][one], PAPER_TABLE2)}
-    lines += _figure(out, "table2_approximation_error.png", panels, "error (%)", log=True)
+    lines += _figure(out, "table2_approximation_error.png", "Table 2", panels, "error (%)", True)
     return render.write_report(out, lines, CLAIMS, t)
 
 
