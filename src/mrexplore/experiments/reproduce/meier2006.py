@@ -323,8 +323,8 @@ TRAFFIC = (
 def _settings(quick: bool) -> Lines:
     teams = "{}, {}; {}".format(*(robots for _, robots in roles(quick)))
     size, ticks = ("40 x 40", 1000) if quick else ("100 x 100", 3000)
-    rates = "; ".join(", ".join(f"{r:g}" for r in x[2]) for x in stores(quick).values())
-    seeds = ", ".join(str(len(x[3])) for x in stores(quick).values())
+    rates = "; ".join(", ".join(f"{r:g}" for r in x) for *_, x, _ in stores(quick).values())
+    seeds = ", ".join(str(len(x)) for *_, x in stores(quick).values())
     rows = f"""maps (Fig. 6, Fig. 7) | unstructured, corridor; same; no size | {size}, map_seed 1
 team sizes | 3, 5; 2 | {teams}
 split rates (splits/s) | 0.04 ... 25 (Table 1) | {rates}
