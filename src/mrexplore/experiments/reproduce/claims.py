@@ -535,7 +535,8 @@ class RatioBound:
     def describe(self, first: str, second: str, metric: str) -> str:
         judged, below = second.split(" / ")[0], f"{'<' if self.strict else '<='} {self.bound:g}"
         also = f" or all are < {self.loose:g}" if self.loose is not None else ""
-        shown = f" (`{second}` shown, the others not judged)" if judged != second else ""
+        shown = ", ".join(f"`{arm}`" for arm in second.split(" / ")[1:])
+        shown = f" ({shown} shown, not judged)" if shown else ""
         return (
             f"mean {metric} of each `{first} *` arm / that of `{judged}`, in every cell: "
             f"reproduced if all are {below}, partly if some are{also}{shown}"

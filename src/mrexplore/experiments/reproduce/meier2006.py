@@ -217,8 +217,7 @@ CLAIMED: dict[tuple[str, str], tuple[str, str, Judged]] = {
         (*_T99, f"{SR} {LOW_SPLIT_RATE:g}", CENTRALISED, claims.RatioWithin(0.15, 0.30), 0, ()),
     ),
     ("tpt", "Table 1, §5.3"): (
-        "goal points (TPT) are a high share of the traffic at low split rates (paper: 31.12% at SR "
-        "0.04), negligible at high ones (0.76% at 25)",
+        "TPT is a high share at low split rates (paper 31.12% at 0.04), negligible at high (0.76%)",
         "the transmission of the goal points causes a high amount of the overall traffic (33.12%)",
         ("shares", "share of bytes (%)", SR, "", claims.AtEnds("TPT", 20.0, 5.0), 1, ()),
     ),
@@ -313,10 +312,10 @@ NOTES = (
     "Raw scans are computed, not sent; a scan per tick is a slow laser: it favours centralised.",
 )
 TRAFFIC = (
-    f"Paper (§5.2): ~{PAPER_INTS_PER_S_ROBOT:,} integers/s per robot give a result like "
-    f"~{PAPER_CENTRAL_INTS_PER_S:,} centralised ({PAPER_RATIO:.1f} x). Ours "
-    f"(`raw`, `raw-181`: centralised with scans of {SCAN_BEAMS}, {SCAN_BEAMS_HALF} beams): team "
-    f"raw-scan rate / polygon rate per robot (4 B an integer) at SR {LOW_SPLIT_RATE:g}: "
+    f"Paper (§5.2): ~{PAPER_INTS_PER_S_ROBOT:,} integers/s per robot give a result like ~"
+    f"{PAPER_CENTRAL_INTS_PER_S:,} centralised ({PAPER_RATIO:.1f} x). Ours (`raw`, `raw-181`: "
+    f"raw scans of {SCAN_BEAMS}, {SCAN_BEAMS_HALF} beams; an integer is 4 B), team raw-scan rate "
+    f"/ polygon rate per robot at SR {LOW_SPLIT_RATE:g}: "
 )
 
 
@@ -325,7 +324,8 @@ def _settings(quick: bool) -> Lines:
     size, ticks = ("40 x 40", 1000) if quick else ("100 x 100", 3000)
     rates = "; ".join(", ".join(f"{r:g}" for r in x) for *_, x, _ in stores(quick).values())
     seeds = ", ".join(str(len(x)) for *_, x in stores(quick).values())
-    rows = f"""maps (Fig. 6, Fig. 7) | unstructured, corridor; same; no size | {size}, map_seed 1
+    rows = f"""maps (Fig. 6; Fig. 7) | unstructured, corridor; the same; no size | generators \
+`unstructured`, `corridor`, {size} cells, map_seed {MAP_SEED}
 team sizes | 3, 5; 2 | {teams}
 split rates (splits/s) | 0.04 ... 25 (Table 1) | {rates}
 sensor; 1 tick | laser, range not given; - | 360°, {SENSOR_RANGE} cells (5 m at 0.5 m); 1 s, 1 cell
