@@ -1251,6 +1251,389 @@ class FallAlong:
         return outcome, "; ".join(parts + [column(arm, 1) for arm in self.shown])
 
 
+# ------------------------------------------- families of arms, graded cells (meier2006)
+
+Arms = Mapping[str, Mapping[int, float]]
+"""One cell of :data:`Values`: ``arm -> seed -> value``."""
+Judgement = tuple[Outcome, str]
+Grade = tuple[str, str] | None
+"""``holds`` / ``weak`` / ``fails`` and its evidence, or ``None`` to leave a cell out."""
+GRADED = "; reproduced if it holds in every cell, not reproduced if it fails in all, else partly"
+
+
+def family(arms: Mapping[str, Any], prefix: str) -> list[str]:
+    """The arms named ``<prefix> <number>`` (a parameter swept over arms: ``SR 0.1``,
+    ``SR 10``, ...), in the order of that number, their :func:`level`.
+
+    >>> family({"SR 10": {}, "full": {}, "SR 0.1": {}}, "SR")
+    ['SR 0.1', 'SR 10']
+    """
+    return sorted((a for a in arms if a.startswith(f"{prefix} ")), key=level)
+
+
+def level(arm: str) -> float:
+    """The number of an arm of a :func:`family`: ``level("SR 0.1") == 0.1``."""
+    return float(arm.rsplit(" ", 1)[-1])
+
+
+def family_means(arms: Arms, prefix: str) -> dict[str, float]:
+    """The mean of every arm of the :func:`family` ``prefix``, in its order."""
+    return {a: _mean(arms[a]) for a in family(arms, prefix)}
+
+
+def spearman(x: Sequence[float], y: Sequence[float]) -> float:
+    """Spearman's rho over the finite pairs (average ranks for ties); nan for fewer than two
+    pairs or a constant side.
+
+    >>> spearman([1, 2, 3], [30, 20, 10]), spearman([1, 2], [5, 5])
+    (-1.0, nan)
+    """
+    import numpy as np
+    from scipy.stats import rankdata
+
+    pairs = [(a, b) for a, b in zip(x, y, strict=True) if math.isfinite(a) and math.isfinite(b)]
+    if len(pairs) < 2:
+        return math.nan
+    rx, ry = rankdata([a for a, _ in pairs]), rankdata([b for _, b in pairs])
+    return float(np.corrcoef(rx, ry)[0, 1]) if np.ptp(rx) and np.ptp(ry) else math.nan
+
+
+def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
+    """+1 / -1 when ``y`` rises / falls with ``x`` (Spearman ``|rho| >= threshold``), else 0.
+
+    >>> trend_sign([1, 2, 3, 4], [4, 3, 2, 1], 0.3), trend_sign([1, 2, 3], [1, 1, 1], 0.3)
+    (-1, 0)
+    """
+    rho = spearman(x, y)
+    return 0 if not abs(rho) >= threshold else (1 if rho > 0 else -1)
+
+
+def graded(grades: Sequence[str]) -> Outcome:
+    """``holds`` / ``weak`` / ``fails`` per cell: reproduced if every cell holds, not
+    reproduced if every one fails (or none was graded), partly otherwise.
+
+    >>> graded(["holds", "holds"]), graded(["holds", "fails"]), graded([])
+    ('reproduced', 'partly', 'not reproduced')
+    """
+    if grades and all(g == "holds" for g in grades):
+        return "reproduced"
+    return "not reproduced" if all(g == "fails" for g in grades) else "partly"
+
+
+class Graded:
+    """Base of the rules that grade each cell (:meth:`grade`, against the first arm of
+    ``seconds``) and combine the grades with :func:`graded`. A comparison with nan is
+    false: a missing number never holds."""
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        raise NotImplementedError
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        second = seconds[0] if seconds else ""
+        grades = [(c, self.grade(arms, first, second, digits)) for c, arms in values.items()]
+        done = [(c, g) for c, g in grades if g is not None]
+        text = "; ".join(f"{_cell_name(c)} {evidence}: {grade}" for c, (grade, evidence) in done)
+        return graded([grade for _, (grade, _) in done]), text or "no cell to judge"
+
+
+@dataclass(frozen=True)
+class PairedAbove(Graded):
+    """``first`` is above ``second`` seed by seed: the paired difference's 95% CI lies
+    above 0 (holds), only its mean (weak), neither (fails).
+
+    >>> values = {("m", 3): {"a": {1: 12.0, 2: 11.0}, "b": {1: 10.0, 2: 10.0}}}
+    >>> PairedAbove().judge(values, "a", ["b"], 0)
+    ('partly', 'm/3r 2 [-5, 8] (n 2): weak')
+    """
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        d = paired(arms, first, second)
+        return "holds" if d.ci_low > 0 else "weak" if d.mean > 0 else "fails", _diff(d, digits)
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return f"paired {metric}, `{first}` - `{second}`: 95% CI above 0 holds, mean weak{GRADED}"
+
+
+@dataclass(frozen=True)
+class RatioWithin(Graded):
+    """The mean of ``first`` is at most ``1 + close`` (holds) or ``1 + loose`` (weak) times
+    that of ``second``; cells without ``first`` are left out.
+
+    >>> RatioWithin(0.15, 0.3).judge({("m", 3): {"a": {1: 12.0}, "b": {1: 10.0}}}, "a", ["b"], 0)
+    ('partly', 'm/3r 12 vs 10 (ratio 1.20): weak')
+    """
+
+    close: float
+    loose: float
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        if first not in arms:
+            return None
+        a, b = _mean(arms[first]), _mean(arms.get(second, {}))
+        text = f"{fmt(a, digits)} vs {fmt(b, digits)} (ratio {fmt(_positive_ratio(a, b), 2)})"
+        return "holds" if a <= (1 + self.close) * b else "weak" if a <= (
+            1 + self.loose
+        ) * b else "fails", text
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        bounds = (
+            f"<= {1 + self.close:.2f} x that of `{second}` holds, <= {1 + self.loose:.2f} x weak"
+        )
+        return f"mean {metric} of `{first}` {bounds}{GRADED}"
+
+
+@dataclass(frozen=True)
+class FallsAlong(Graded):
+    """The mean falls along the :func:`family` ``first``: Spearman rho(level, mean) at most
+    ``rho`` and the paired lowest- minus highest-level difference above 0 with its 95% CI
+    (holds); one of the two, or only that difference's mean above 0 (weak).
+
+    >>> arms = {"SR 0.1": {1: 30.0, 2: 33.0}, "SR 1": {1: 25.0, 2: 24.0}, "SR 10": {1: 20.0}}
+    >>> FallsAlong(-0.5).judge({("m", 3): arms}, "SR", [], 0)
+    ('partly', 'm/3r rho -1.00, SR 0.1 - SR 10 10 [-, -] (n 1): weak')
+    """
+
+    rho: float
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        means = family_means(arms, first)
+        if not means:
+            return None
+        low, high = next(iter(means)), list(means)[-1]
+        rho = spearman([level(a) for a in means], list(means.values()))
+        d = paired(arms, low, high)
+        falls, sure = rho <= self.rho, d.ci_low > 0
+        grade = "holds" if falls and sure else "weak" if falls or sure or d.mean > 0 else "fails"
+        return grade, f"rho {fmt(rho, 2)}, {low} - {high} {_diff(d, digits)}"
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"Spearman rho(level, mean {metric} of `{first} *`) <= {self.rho:g} and the paired "
+            "lowest- minus highest-level difference above 0 with its 95% CI: holds; one of them, "
+            f"or only that difference's mean above 0: weak{GRADED}"
+        )
+
+
+@dataclass(frozen=True)
+class ConvergesAtTop(Graded):
+    """At the highest level of the :func:`family` ``first`` the mean is that of ``second``:
+    the paired difference within ``tolerance`` of the mean of ``second`` and its 95% CI
+    holding 0 (holds: "no significant difference"); one of the two (weak).
+
+    >>> arms = {"SR 1": {1: 30.0}, "SR 10": {1: 21.0, 2: 19.0}, "full": {1: 20.0, 2: 20.0}}
+    >>> ConvergesAtTop(0.1).judge({("m", 3): arms}, "SR", ["full"], 0)
+    ('reproduced', 'm/3r SR 10 - `full` 0 [-13, 13] (n 2) vs 20: holds')
+    """
+
+    tolerance: float
+
+    def grade(self, arms: Arms, first: str, second: str, digits: int) -> Grade:
+        top = family(arms, first)[-1:]
+        if not top:
+            return None
+        d, reference = paired(arms, top[0], second), _mean(arms.get(second, {}))
+        close, known = abs(d.mean) <= self.tolerance * reference, math.isfinite(d.ci_low)
+        zero_in = not known or d.ci_low <= 0 <= d.ci_high
+        grade = (
+            "holds" if close and zero_in else "weak" if close or (known and zero_in) else "fails"
+        )
+        text = f"{top[0]} - `{second}` {_diff(d, digits)} vs {fmt(reference, digits)}"
+        return grade if math.isfinite(d.mean + reference) else "fails", text
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"|paired {metric}, highest-level `{first} *` - `{second}`| <= {self.tolerance:.0%} "
+            f"of the mean of `{second}` and its 95% CI holding 0: holds; one of them: weak{GRADED}"
+        )
+
+
+@dataclass(frozen=True)
+class RatioGrows:
+    """The ratio of the means of ``first`` and ``second`` is larger in the last cell (for
+    instance the larger team) than in the first and above 1 (reproduced), only larger
+    (partly), or not (not reproduced).
+
+    >>> values = {("a", 3): {"x": {1: 9.0}, "y": {1: 10.0}},
+    ...           ("b", 5): {"x": {1: 12.0}, "y": {1: 10.0}}}
+    >>> RatioGrows().judge(values, "x", ["y"], 3)
+    ('reproduced', 'a/3r 0.900, b/5r 1.200')
+    """
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        ratios = {
+            c: _positive_ratio(_mean(a.get(first, {})), _mean(a.get(seconds[0], {})))
+            for c, a in values.items()
+        }
+        ends = list(ratios.values()) or [math.nan]
+        small, large = ends[0], ends[-1]
+        outcome: Outcome = (
+            "reproduced"
+            if large > max(small, 1)
+            else "partly"
+            if large > small
+            else "not reproduced"
+        )
+        return outcome, ", ".join(f"{_cell_name(c)} {fmt(r, digits)}" for c, r in ratios.items())
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"ratio of the mean {metric} of `{first}` to that of `{second}`: reproduced if larger "
+            "in the last cell than in the first and above 1, partly if only larger"
+        )
+
+
+@dataclass(frozen=True)
+class RatioBound:
+    """The mean of every arm of the :func:`family` ``first`` over the mean of ``second``, in
+    every cell, is at most ``bound`` (below it if ``strict``): reproduced; some is, or every
+    one is below ``loose``: partly. Further arms in ``seconds`` are shown, not judged.
+
+    >>> values = {("m", 2): {"SR 1": {1: 2.0}, "SR 9": {1: 6.0}, "raw": {1: 10.0}}}
+    >>> RatioBound(0.5, loose=1.0).judge(values, "SR", ["raw"], 2)
+    ('partly', 'm/2r vs `raw`: SR 1 0.20, SR 9 0.60')
+    """
+
+    bound: float
+    strict: bool = False
+    loose: float | None = None
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        judged: list[float] = []
+        parts = []
+        for cell, arms in values.items():
+            for i, second in enumerate(seconds):
+                reference = _mean(arms.get(second, {}))
+                ratios = {
+                    a: _positive_ratio(m, reference) for a, m in family_means(arms, first).items()
+                }
+                judged += list(ratios.values()) if i == 0 else []
+                listed = ", ".join(f"{a} {fmt(r, digits)}" for a, r in ratios.items())
+                parts.append(f"{_cell_name(cell)} vs `{second}`: {listed}")
+        finite = [r for r in judged if math.isfinite(r)]
+        passes = [r < self.bound if self.strict else r <= self.bound for r in finite]
+        loose = self.loose is not None and finite and all(r < self.loose for r in finite)
+        outcome: Outcome = "partly" if any(passes) or loose else "not reproduced"
+        if finite and len(finite) == len(judged) and all(passes):
+            outcome = "reproduced"
+        return outcome, "; ".join(parts)
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        judged, below = second.split(" / ")[0], f"{'<' if self.strict else '<='} {self.bound:g}"
+        also = f" or all are < {self.loose:g}" if self.loose is not None else ""
+        shown = ", ".join(f"`{arm}`" for arm in second.split(" / ")[1:])
+        shown = f" ({shown} shown, not judged)" if shown else ""
+        return (
+            f"mean {metric} of each `{first} *` arm / that of `{judged}`, in every cell: "
+            f"reproduced if all are {below}, partly if some are{also}{shown}"
+        )
+
+
+@dataclass(frozen=True)
+class TrendsAsPaper:
+    """In each cell ``(column,)`` the sign of Spearman rho(level, mean) along the
+    :func:`family` ``first`` (0 if ``|rho| < threshold``) is that of the paper's column
+    (``paper``: level -> column -> value): in every column (reproduced), in at least
+    ``enough`` (partly).
+
+    >>> paper = {1.0: {"A": 9.0, "B": 1.0}, 2.0: {"A": 5.0, "B": 1.0}, 3.0: {"A": 1.0, "B": 1.0}}
+    >>> ours = {("A",): {"SR 1": {1: 3.0}, "SR 2": {1: 2.0}}, ("B",): {"SR 1": {1: 3.0}}}
+    >>> TrendsAsPaper(paper, 0.3, 1).judge(ours, "SR", [], 0)
+    ('reproduced', 'trend signs paper/ours: A -1/-1, B +0/+0')
+    """
+
+    paper: Mapping[float, Mapping[str, float]]
+    threshold: float
+    enough: int
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        signs: dict[str, tuple[int, int]] = {}
+        for column in next(iter(self.paper.values()), {}):
+            theirs = [row[column] for row in self.paper.values()]
+            ours = family_means(values.get((column,), {}), first)
+            signs[column] = (
+                trend_sign(list(self.paper), theirs, self.threshold),
+                trend_sign([level(a) for a in ours], list(ours.values()), self.threshold),
+            )
+        agree = sum(a == b for a, b in signs.values())
+        outcome: Outcome = "partly" if agree >= self.enough else "not reproduced"
+        listed = ", ".join(f"{c} {a:+d}/{b:+d}" for c, (a, b) in signs.items())
+        return "reproduced" if agree == len(signs) else outcome, f"trend signs paper/ours: {listed}"
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"sign of Spearman rho(level, mean {metric} of `{first} *`), 0 if |rho| < "
+            f"{self.threshold:g}, column by column, as the paper's: reproduced if in all, partly "
+            f"if in >= {self.enough}"
+        )
+
+
+@dataclass(frozen=True)
+class AtEnds:
+    """In cell ``(column,)``, the mean of the :func:`family` ``first`` is at least ``high``
+    at its lowest level and at most ``low`` at its highest (reproduced), one of the two
+    (partly), neither (not reproduced).
+
+    >>> AtEnds("TPT", 20, 5).judge({("TPT",): {"SR 1": {1: 30.0}, "SR 9": {1: 8.0}}}, "SR", [], 1)
+    ('partly', 'TPT: SR 1 30.0, SR 9 8.0')
+    """
+
+    column: str
+    high: float
+    low: float
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"mean {metric} of {self.column} along `{first} *`: >= {self.high:g} at the lowest "
+            f"level and <= {self.low:g} at the highest: reproduced; one of the two: partly"
+        )
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        means = family_means(values.get((self.column,), {}), first) or {"-": math.nan}
+        ends = [next(iter(means)), list(means)[-1]]
+        met = (means[ends[0]] >= self.high) + (means[ends[1]] <= self.low)
+        outcome: Outcome = "reproduced" if met == 2 else "partly" if met else "not reproduced"
+        return outcome, f"{self.column}: " + ", ".join(f"{a} {fmt(means[a], digits)}" for a in ends)
+
+
+@dataclass(frozen=True)
+class FallsNearPaper:
+    """The means of the :func:`family` ``first`` at the paper's levels (``paper``: level ->
+    value; the first cell) fall strictly and each is within ``factor`` of the paper's
+    (reproduced); they only fall (partly); else not reproduced.
+
+    >>> values = {("m", 3): {"SR 1": {1: 9.0}, "SR 10": {1: 3.0}}}
+    >>> FallsNearPaper({1.0: 8.0, 10.0: 1.0}, 2).judge(values, "SR", [], 1)
+    ('partly', 'SR 1 9.0, SR 10 3.0')
+    """
+
+    paper: Mapping[float, float]
+    factor: float
+
+    def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
+        arms = next(iter(values.values()), {})
+        ours = {x: _mean(arms.get(f"{first} {x:g}", {})) for x in sorted(self.paper)}
+        steps = itertools.pairwise(ours.values())
+        falls = all(map(math.isfinite, ours.values())) and all(a > b for a, b in steps)
+        within = all(p / self.factor <= ours[x] <= p * self.factor for x, p in self.paper.items())
+        outcome: Outcome = "partly" if falls else "not reproduced"
+        text = ", ".join(f"{first} {x:g} {fmt(v, digits)}" for x, v in ours.items())
+        return "reproduced" if falls and within else outcome, text
+
+    def describe(self, first: str, second: str, metric: str) -> str:
+        return (
+            f"mean {metric} of `{first} *` at the paper's levels: reproduced if it falls strictly "
+            f"and each is within a factor {self.factor:g} of the paper's, partly if it only falls"
+        )
+
+
+def _diff(d: Summary, digits: int) -> str:
+    return f"{fmt(d.mean, digits)} [{fmt(d.ci_low, digits)}, {fmt(d.ci_high, digits)}] (n {d.n})"
+
+
+def _positive_ratio(a: float, b: float) -> float:
+    return a / b if b > 0 else math.nan
+
+
 _RELATIONS: dict[str, Callable[[float, float], bool]] = {
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b,
@@ -1400,29 +1783,40 @@ def robustness_section(
 
 
 __all__ = [
+    "GRADED",
+    "AtEnds",
     "AtLeast",
     "Claim",
+    "ConvergesAtTop",
     "Counted",
     "Diminishing",
     "FallAlong",
+    "FallsAlong",
     "FallsFasterBelow",
     "FallsLess",
+    "FallsNearPaper",
     "GapNarrows",
+    "Graded",
     "Interpretation",
     "Lowest",
     "Monotone",
     "NotBelowAll",
+    "PairedAbove",
     "PairedLower",
     "PairedMostlyLower",
     "RankTrend",
     "RatioAtMost",
+    "RatioBound",
     "RatioFalls",
+    "RatioGrows",
+    "RatioWithin",
     "RatioWithinFactor",
     "RisesAbove",
     "Rule",
     "Share",
     "Trend",
     "TrendForAll",
+    "TrendsAsPaper",
     "Unpaired",
     "Values",
     "WithMeans",
@@ -1430,11 +1824,17 @@ __all__ = [
     "claims_section",
     "common_seeds",
     "count_outcome",
+    "family",
+    "family_means",
     "fmt",
+    "graded",
+    "level",
     "lowest_arm",
     "paired",
     "robustness",
     "robustness_section",
     "series_of",
     "series_text",
+    "spearman",
+    "trend_sign",
 ]
