@@ -1,4 +1,6 @@
-"""The meier2006 reproduction: quick run through the CLI, its helpers and rules, full run (slow)."""
+"""The meier2006 reproduction: the quick run through the CLI (one interpretation), its
+metrics and tables on hand-made rows, the rule objects it added to the claims layer on
+hand-made values (outcomes and words, the old thresholds' cases), and the full run (slow)."""
 
 from __future__ import annotations
 
@@ -8,36 +10,30 @@ import re
 from pathlib import Path
 
 import numpy as np
-import pyarrow as pa
 import pytest
 
+from mrexplore.cli import main
+from mrexplore.experiments.reproduce import claims as c
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import meier2006 as m
-from mrexplore.experiments.stats import summarize_metric
 
 OUTCOMES = ("reproduced", "partly", "not reproduced")
-N_CLAIMS = 10
 FIGURES = (
     "fig6_exploration_time.png",
+    "fig7_traffic.png",
     "table1_package_shares.png",
     "table2_approximation_error.png",
-    "fig7_traffic.png",
 )
-
-
-def _verdict_lines(text: str) -> list[str]:
-    section = text.split("## Verdicts", 1)[1]
-    return [line for line in section.splitlines() if line.startswith("- **")]
+READING = "every-target-discounts"  # re-runs only the meier-polygon sweeps
 
 
 def _check_report(out: Path, *, quick: bool) -> str:
     text = (out / "report.md").read_text()
-    assert text.startswith(f"# Reproduction `{m.ID}`")
+    assert text.startswith(f"# Reproduction: {m.TITLE}")
     assert m.CITATION in text
-    assert ("Quick run" in text) is quick
-    assert "## Verdicts" in text
-    lines = _verdict_lines(text)
-    assert len(lines) == N_CLAIMS
+    assert ("**Quick run**" in text) is quick
+    lines = [x for x in text.split("## Verdicts", 1)[1].splitlines() if x.startswith("- **")]
+    assert len(lines) == len(m.CLAIMS) == 10
     for line in lines:
         outcome = re.match(r"- \*\*(.+?)\*\*: ", line)
         assert outcome is not None and outcome.group(1) in OUTCOMES, line
@@ -45,7 +41,7 @@ def _check_report(out: Path, *, quick: bool) -> str:
     for number in ("31.12", "78.95", "21.05", "8.92", "0.86", "0.19", "200,000", "7,500"):
         assert number in text, number
     for name in FIGURES:
-        assert (out / name).stat().st_size > 0, name
+        assert (out / name).stat().st_size > 1000, name
         assert f"]({name})" in text
     return text
 
@@ -54,250 +50,370 @@ def _check_report(out: Path, *, quick: bool) -> str:
 
 
 def test_quick_reproduction_through_cli(tmp_path: Path) -> None:
-    from mrexplore.cli import main
-
-    assert main(["reproduce", "meier2006", "--quick", "--out", str(tmp_path), "--no-progress"]) == 0
-    _check_report(tmp_path, quick=True)
+    argv = ["reproduce", "meier2006", "--quick", "--out", str(tmp_path), "--no-progress"]
+    assert main([*argv, "--interpretations", READING]) == 0
+    text = _check_report(tmp_path, quick=True)
     for name in m.sweeps(True):
         assert (tmp_path / name / "runs").is_dir()
+    robustness = text.split("## Robustness to the readings of the paper", 1)[1]
+    assert f"| claim | default | {READING} | summary |" in robustness
+    for claim in m.CLAIMS:
+        assert re.search(
+            rf"^\| `{claim.id}` \| .* \| (robust|\*\*fragile\*\*.*) \|$", robustness, re.M
+        )
+    readings = tmp_path / "readings" / READING
+    assert (readings / "quick_polygon").is_dir() and (
+        readings / "quick_baselines-meier-polygon"
+    ).is_dir()
+    assert not (readings / "quick_baselines-burgard").exists()
 
 
 def test_registered() -> None:
     reproduction = get_reproduction("meier2006")
     assert reproduction is m.REPRODUCTION
     assert reproduction.id == "meier2006"
+    assert {i.name for i in reproduction.interpretations} == {
+        "replan-on-arrival",
+        "every-target-discounts",
+        "raw-path-cost",
+    }
 
 
 def test_sweeps_full_and_quick() -> None:
     full = m.sweeps(False)
-    assert set(full) == {
+    assert list(full) == [
         f"{key}_{kind}"
         for key in ("unstructured3", "corridor5", "two_robots")
-        for kind in ("polygon", "baselines")
-    }
+        for kind in ("polygon", "baselines-burgard", "baselines-meier-polygon")
+    ]
     polygon = full["unstructured3_polygon"].runs()
-    rates = {spec.scenario.sharing_params["split_rate"] for spec in polygon}
-    assert rates == set(m.PAPER_TABLE1)
-    assert all(
-        spec.scenario.robots == 3 and spec.scenario.map == "unstructured" for spec in polygon
-    )
+    assert {spec.scenario.sharing_params["split_rate"] for spec in polygon} == set(m.PAPER_TABLE1)
+    assert all(s.scenario.robots == 3 and s.scenario.map == "unstructured" for s in polygon)
     assert all(spec.scenario.map_seed == m.MAP_SEED for spec in polygon)
     assert {s.scenario.robots for s in full["corridor5_polygon"].runs()} == {5}
-    assert {s.scenario.robots for s in full["two_robots_baselines"].runs()} == {2}
-    baselines = full["corridor5_baselines"].runs()
-    assert {(s.scenario.strategy, s.scenario.sharing) for s in baselines} == {
-        m.CENTRALISED,
-        m.DECENTRALISED_FULL,
-    }
+    assert {s.scenario.robots for s in full["two_robots_baselines-burgard"].runs()} == {2}
+    for strategy in ("burgard", "meier-polygon"):
+        runs = full[f"corridor5_baselines-{strategy}"].runs()
+        assert {(s.scenario.strategy, s.scenario.sharing) for s in runs} == {(strategy, "full")}
     quick = m.sweeps(True)
-    assert set(quick) == {"quick_polygon", "quick_baselines"}
+    assert set(quick) == {
+        "quick_polygon",
+        "quick_baselines-burgard",
+        "quick_baselines-meier-polygon",
+    }
     maps = {(s.scenario.map, s.scenario.robots) for s in quick["quick_polygon"].runs()}
     assert maps == {("unstructured", 3), ("corridor", 3)}
     assert sum(len(s) for s in quick.values()) < sum(len(s) for s in full.values()) / 5
 
 
+def test_quick_sweeps_are_the_runs_of_before() -> None:
+    """The split-rate sweep is unchanged; the baselines are the old sweep split by strategy."""
+    polygon = m.sweeps(True)["quick_polygon"]
+    assert polygon.fixed["strategy"] == "meier-polygon" and polygon.fixed["max_ticks"] == 1000
+    assert polygon.grid == {
+        "map": ["unstructured", "corridor"],
+        "share": {"split_rate": [0.1, 1.0, 10.0]},
+    }
+    assert polygon.seeds == [1]
+
+
 # ------------------------------------------------------------ paper's numbers
 
 
-def test_paper_table1_rows_sum_to_100() -> None:
+def test_paper_table1_rows_sum_to_100_and_trend_as_the_text_says() -> None:
     for rate, row in m.PAPER_TABLE1.items():
         assert set(row) == set(m.PACKAGE_TYPES)
         assert sum(row.values()) == pytest.approx(100.0, abs=0.1), rate
-
-
-def test_paper_table1_trends() -> None:
     rates = list(m.PAPER_TABLE1)
     signs = {
-        name: m.trend_sign(rates, [m.PAPER_TABLE1[r][name] for r in rates])
-        for name in m.PACKAGE_TYPES
+        t: c.trend_sign(rates, [m.PAPER_TABLE1[r][t] for r in rates], 0.3) for t in m.PACKAGE_TYPES
     }
     assert signs == {"TPT": -1, "ES": 1, "B": -1, "VP": 1, "EP": -1}
 
 
-# -------------------------------------------------------------------- helpers
+# -------------------------------------------------------------- metrics, tables
 
 
-def _runs_table() -> pa.Table:
-    """Hand-made runs table: two split rates and two baselines, two seeds each."""
-    return pa.table(
-        {
-            "run_id": ["a", "b", "c", "d", "e", "f", "g", "h", "i"],
-            "strategy": ["meier-polygon"] * 4 + ["burgard"] * 2 + ["meier-polygon"] * 3,
-            "sharing": ["polygon"] * 4 + ["full"] * 2 + ["full"] * 2 + ["polygon"],
-            "share_split_rate": [0.1, 0.1, 10.0, 10.0, None, None, None, None, 1.0],
-            "seed": [1, 2, 1, 2, 1, 2, 1, 2, 1],
-            "robots": [2] * 9,
-            "status": ["complete", "complete", "complete", "max_ticks"]
-            + ["complete"] * 4
-            + ["failed"],
-            "ticks": [99, 109, 89, 3000, 79, 89, 84, 94, 10],
-            "T99": [99, 109, 89, None, 79, 89, 84, 94, None],
-            "bytes_total": [1000, 1200, 5000, 6000, 3000, 3100, 2100, 2200, None],
-            "bytes_by_type_TPT": [200, 200, 100, 100, None, None, 100, 100, None],
-            "bytes_by_type_ES": [300, 400, 4000, 5000, None, None, None, None, None],
-            "bytes_by_type_status": [None, None, None, None, 150, 150, None, None, None],
-            "bytes_by_type_assign": [None, None, None, None, 130, 130, None, None, None],
-            "polygon_approximation_error_mean": ["[0.1, 0.3]", "[0.2, null]", "[0.0, 0.02]"]
-            + [None] * 6,
-        }
-    )
+def _run(strategy: str, sharing: str, seed: int, ticks: int, **more: object) -> dict[str, object]:
+    reached = more.pop("reached", True)
+    return {"map": "unstructured", "robots": 2, "strategy": strategy, "sharing": sharing,
+            "seed": seed, "ticks": ticks, "T99": ticks if reached else None,
+            "status": "complete" if reached else "max_ticks", **more}  # fmt: skip
 
 
-def test_split_rows_groups_and_counts_failures() -> None:
-    rows = _runs_table().to_pylist()
-    polygon, baselines, failed = m.split_rows(
-        [r for r in rows if r["sharing"] == "polygon"], [r for r in rows if r["sharing"] == "full"]
-    )
-    assert failed == 1
-    assert list(polygon) == [0.1, 10.0]
-    assert [r["run_id"] for r in polygon[0.1]] == ["a", "b"]
-    assert set(baselines) == {m.CENTRALISED, m.DECENTRALISED_FULL}
-    times = m.by_seed(polygon[10.0], m.exploration_time)
-    assert times[1] == 89 and math.isnan(times[2])
+def _rows() -> list[dict[str, object]]:
+    """Hand-made run rows: two split rates and the two baselines, two seeds each, 2 robots."""
+    polygon = ("meier-polygon", "polygon")
+    rows = [
+        _run(*polygon, 1, 99, share_split_rate=0.1, bytes_total=1000, bytes_by_type_TPT=200,
+             bytes_by_type_ES=300, polygon_approximation_error_mean="[0.1, 0.3]"),
+        _run(*polygon, 2, 109, share_split_rate=0.1, bytes_total=1200, bytes_by_type_TPT=200,
+             bytes_by_type_ES=400, polygon_approximation_error_mean="[0.2, null]"),
+        _run(*polygon, 1, 89, share_split_rate=10.0, bytes_total=5000, bytes_by_type_TPT=100,
+             bytes_by_type_ES=4000),
+        _run(*polygon, 2, 3000, share_split_rate=10.0, bytes_total=6000, bytes_by_type_TPT=100,
+             bytes_by_type_ES=5000, reached=False),
+    ]  # fmt: skip
+    for seed, ticks in ((1, 79), (2, 89)):
+        rows.append(
+            _run("burgard", "full", seed, ticks, bytes_total=3000, bytes_by_type_status=150,
+                 bytes_by_type_assign=130)
+        )  # fmt: skip
+        rows.append(
+            _run("meier-polygon", "full", seed, ticks + 5, bytes_total=2100, bytes_by_type_TPT=100)
+        )
+    return rows
 
 
-def test_package_shares_from_runs_table() -> None:
-    row = _runs_table().to_pylist()[0]
-    shares = m.package_shares(row)
-    assert shares["TPT"] == pytest.approx(20.0)
-    assert shares["ES"] == pytest.approx(30.0)
+def test_metrics_of_a_run_row() -> None:
+    rows = _rows()
+    shares = m.package_shares(rows[0])
+    assert shares["TPT"] == pytest.approx(20.0) and shares["ES"] == pytest.approx(30.0)
     assert shares["B"] == shares["VP"] == shares["EP"] == 0.0
     assert shares["other"] == pytest.approx(50.0)
     assert all(math.isnan(v) for v in m.package_shares({"bytes_total": 0}).values())
-
-
-def test_map_package_bytes_drops_coordination() -> None:
-    rows = _runs_table().to_pylist()
-    assert m.map_package_bytes(rows[0]) == 800  # polygon: all but TPT
-    assert m.map_package_bytes(rows[4]) == 3000 - 150 - 130  # burgard: all but status/assign
-    assert m.map_package_bytes(rows[6]) == 2000  # meier-polygon + full: all but TPT
-
-
-def test_team_error() -> None:
-    rows = _runs_table().to_pylist()
-    assert m.team_error(rows[0]["polygon_approximation_error_mean"]) == pytest.approx(0.2)
-    assert m.team_error(rows[1]["polygon_approximation_error_mean"]) == pytest.approx(0.2)
-    assert math.isnan(m.team_error("[null]"))
-    assert math.isnan(m.team_error(None))
-
-
-def test_raw_scan_bytes_and_centralised_estimate() -> None:
+    assert m.METRICS["map_bytes"](rows[0]) == 800  # polygon: all but TPT
+    assert m.METRICS["map_bytes"](rows[4]) == 3000 - 150 - 130  # burgard: all but status/assign
+    assert m.METRICS["map_bytes"](rows[5]) == 2000  # meier-polygon + full: all but TPT
+    assert m.team_error(rows[0]["polygon_approximation_error_mean"]) == pytest.approx(20.0)
+    assert m.team_error("[0.2, null]") == pytest.approx(20.0)
+    assert math.isnan(m.team_error("[null]")) and math.isnan(m.team_error(None))
     per_scan = 7 + 360 * 2
-    assert m.raw_scan_bytes(1, 0) == per_scan
-    assert m.raw_scan_bytes(3, 99) == 3 * 100 * per_scan
-    assert m.raw_scan_bytes(2, 9, beams=181) == 2 * 10 * (7 + 181 * 2)
-    row = _runs_table().to_pylist()[4]  # burgard, 2 robots, 79 ticks
-    assert m.centralised_raw_bytes(row) == 150 + 130 + 2 * 80 * per_scan
+    assert m.centralised_raw_bytes(rows[4]) == 150 + 130 + 2 * 80 * per_scan
+    assert m.centralised_raw_bytes(rows[4], 181) == 150 + 130 + 2 * 80 * (7 + 181 * 2)
+    assert m.METRICS["rate"](rows[0]) == pytest.approx(1000 / (100 * 2))
+    assert math.isnan(m.METRICS["time"](rows[3]))  # never reached 99%: no exploration time
+    assert [m.arm_of(r) for r in rows[:6:2]] == ["SR 0.1", "SR 10", "centralised"]
+    assert m.arm_of(rows[5]) == "no-approximation"
 
 
-def test_paired_uses_common_finite_seeds() -> None:
-    s = m.paired({1: 10.0, 2: 14.0, 3: math.nan, 4: 1.0}, {1: 8.0, 2: 10.0, 3: 1.0})
-    assert s.n == 2 and s.mean == pytest.approx(3.0)
-    assert m.paired({}, {1: 1.0}).n == 0
+def test_run_values_and_claim_tables() -> None:
+    values = m.run_values(_rows(), quick=False)
+    cell = ("unstructured", 2)
+    assert set(values["bytes"][cell]) == {
+        "SR 0.1",
+        "SR 10",
+        "centralised",
+        "no-approximation",
+        "raw",
+        "raw-181",
+    }
+    assert values["bytes"][cell]["raw"][1] == 150 + 130 + 2 * 80 * 727
+    assert set(values["error"][cell]) == {"SR 0.1"} | {"SR 10"}  # polygon runs only
+    assert values["error"][cell]["SR 0.1"] == {1: pytest.approx(20.0), 2: pytest.approx(20.0)}
+    assert values["reached"][cell]["SR 10"] == {1: 1.0, 2: 0.0}
+    tables = m.claim_tables(values, quick=False)
+    assert tables["traffic"] == {cell: values["bytes"][cell]}  # the Fig. 7 setting: 2 robots
+    assert tables["time"] == {} and tables["error"] == {("unstructured", 3): {}}
+    assert set(tables["shares"]) == {(t,) for t in (*m.PACKAGE_TYPES, "other")}
 
 
-def test_spearman_and_trend_sign() -> None:
-    assert m.spearman([1, 2, 3, 4], [1, 3, 2, 4]) == pytest.approx(0.8)
-    assert math.isnan(m.spearman([1, 2, 3], [5, 5, 5]))
-    assert math.isnan(m.spearman([1], [2]))
-    assert m.trend_sign([1, 2, 3, 4], [1, 2, 4, 3]) == 1
-    assert m.trend_sign([1, 2, 3, 4, 5], [4, 1, 3, 5, 2]) == 0  # rho = 0
+def test_report_without_runs(tmp_path: Path) -> None:
+    text = m.report({}, tmp_path, quick=True).read_text()
+    assert "## Verdicts" in text and "no cell to judge" in text
+    for name in FIGURES:  # a figure with no panel is not drawn, nor linked
+        assert (tmp_path / name).exists() is (f"]({name})" in text), name
 
 
-def test_mean_curve_holds_last_value() -> None:
-    ticks, mean = m.mean_curve({"a": [(0, 1.0), (10, 3.0)], "b": [(0, 1.0), (5, 2.0), (20, 6.0)]})
-    assert ticks.tolist() == [0, 5, 10, 20]
-    assert mean.tolist() == [1.0, 1.5, 2.5, 4.5]
-    empty_ticks, empty_mean = m.mean_curve({})
-    assert empty_ticks.size == 0 and empty_mean.size == 0
+# ------------------------------------------- the rule objects (claims layer)
+
+STEADY = {s: 100.0 + s for s in range(1, 6)}
 
 
-# ---------------------------------------------------------------------- rules
+def _shift(by_seed: dict[int, float], by: float) -> dict[int, float]:
+    return {s: v + by for s, v in by_seed.items()}
 
 
-def _summary(values: list[float]):  # type: ignore[no-untyped-def]
-    return summarize_metric(values)
+def test_family_and_graded() -> None:
+    assert c.family({"SR 25": {}, "SR 0.04": {}, "centralised": {}, "SR 1": {}}, "SR") == [
+        "SR 0.04",
+        "SR 1",
+        "SR 25",
+    ]
+    assert c.level("SR 0.04") == 0.04
+    assert c.graded(["holds", "weak"]) == c.graded(["weak", "weak"]) == "partly"
+    assert c.graded(["fails", "fails"]) == "not reproduced"
+    assert c.spearman([1, 2, 3, 4], [1, 3, 2, 4]) == pytest.approx(0.8)
+    assert math.isnan(c.spearman([1], [2])) and math.isnan(c.spearman([1, 2, 3], [5, 5, 5]))
+    assert c.trend_sign([1, 2, 3, 4, 5], [4, 1, 3, 5, 2], 0.3) == 0  # rho = 0
 
 
-def test_combine() -> None:
-    assert m.combine(["holds", "holds"]) == "reproduced"
-    assert m.combine(["holds", "weak"]) == "partly"
-    assert m.combine(["weak", "weak"]) == "partly"
-    assert m.combine(["fails", "fails"]) == "not reproduced"
-
-
-def test_decreasing_status() -> None:
-    rates = [0.1, 1.0, 10.0]
-    clear = _summary([40.0, 50.0, 45.0])
-    assert m.decreasing_status(rates, [300, 250, 200], clear) == "holds"
-    assert m.decreasing_status(rates, [300, 250, 200], _summary([40.0, -50.0, 5.0])) == "weak"
-    assert m.decreasing_status(rates, [200, 250, 300], _summary([5.0])) == "weak"
-    assert m.decreasing_status(rates, [200, 250, 300], _summary([-40.0, -50.0])) == "fails"
-
-
-def test_converge_status() -> None:
-    assert m.converge_status(_summary([5.0, -5.0, 3.0]), 100.0) == "holds"
-    assert m.converge_status(_summary([40.0, -30.0, 50.0]), 100.0) == "weak"  # CI has 0
-    assert m.converge_status(_summary([8.0, 9.0, 8.5]), 100.0) == "weak"  # close, significant
-    assert m.converge_status(_summary([50.0, 60.0, 55.0]), 100.0) == "fails"
-    assert m.converge_status(_summary([]), 100.0) == "fails"
-
-
-def test_slower_status() -> None:
-    assert m.slower_status(_summary([10.0, 12.0, 11.0])) == "holds"
-    assert m.slower_status(_summary([10.0, -8.0, 11.0])) == "weak"
-    assert m.slower_status(_summary([-10.0, -12.0])) == "fails"
-
-
-def test_advantage_outcome() -> None:
-    assert m.advantage_outcome(1.05, 1.2) == "reproduced"
-    assert m.advantage_outcome(0.8, 0.9) == "partly"
-    assert m.advantage_outcome(1.2, 1.1) == "not reproduced"
-    assert m.advantage_outcome(math.nan, 1.1) == "not reproduced"
-
-
-def test_similar_status() -> None:
-    assert m.similar_status(110.0, 100.0) == "holds"
-    assert m.similar_status(90.0, 100.0) == "holds"
-    assert m.similar_status(125.0, 100.0) == "weak"
-    assert m.similar_status(140.0, 100.0) == "fails"
-
-
-def test_tpt_outcome() -> None:
-    assert m.tpt_outcome(31.0, 0.8) == "reproduced"
-    assert m.tpt_outcome(31.0, 7.0) == "partly"
-    assert m.tpt_outcome(10.0, 7.0) == "not reproduced"
-
-
-def test_trends_outcome() -> None:
-    paper = {"TPT": -1, "ES": 1, "B": -1, "VP": 1, "EP": -1}
-    assert m.trends_outcome(paper, dict(paper)) == "reproduced"
-    assert m.trends_outcome(paper, {**paper, "B": 0, "VP": -1}) == "partly"
-    assert m.trends_outcome(paper, {"TPT": 1, "ES": -1, "B": 1, "VP": 1, "EP": -1}) == (
-        "not reproduced"
+def test_falls_along() -> None:
+    """Fig. 6: rho(SR, mean) <= -0.5 and the paired lowest - highest CI above 0."""
+    rule = c.FallsAlong(-0.5)
+    clear = {"SR 0.1": _shift(STEADY, 45), "SR 1": _shift(STEADY, 20), "SR 10": STEADY}
+    noisy = {**clear, "SR 0.1": {1: 150.0, 2: 60.0, 3: 120.0, 4: 70.0, 5: 155.0}}
+    rising = {"SR 0.1": STEADY, "SR 1": _shift(STEADY, 20), "SR 10": _shift(STEADY, 45)}
+    outcome, text = rule.judge({("m", 3): clear, ("c", 5): rising}, "SR", [], 0)
+    assert outcome == "partly"
+    assert text == (
+        "m/3r rho -1.00, SR 0.1 - SR 10 45 [45, 45] (n 5): holds; "
+        "c/5r rho 1.00, SR 0.1 - SR 10 -45 [-45, -45] (n 5): fails"
+    )
+    assert rule.judge({("m", 3): noisy}, "SR", [], 0)[0] == "partly"  # falls, CI holds 0: weak
+    assert rule.judge({("m", 3): rising}, "SR", [], 0)[0] == "not reproduced"
+    assert rule.judge({("m", 3): clear}, "SR", [], 0)[0] == "reproduced"
+    assert rule.describe("SR", "", "T99").startswith(
+        "Spearman rho(level, mean T99 of `SR *`) <= -0.5"
     )
 
 
-def test_error_outcome() -> None:
-    paper = m.PAPER_TABLE2
-    assert m.error_outcome({0.1: 9.0, 1.0: 1.0, 10.0: 0.2}, paper) == "reproduced"
-    assert m.error_outcome({0.1: 40.0, 1.0: 10.0, 10.0: 0.5}, paper) == "partly"
-    assert m.error_outcome({0.1: 9.0, 1.0: 10.0, 10.0: 0.2}, paper) == "not reproduced"
-    assert m.error_outcome({0.1: 9.0, 1.0: 1.0}, paper) == "not reproduced"
+def test_converges_at_top() -> None:
+    """Fig. 6, §6: |mean difference| <= 10% of the reference and its CI holding 0."""
+    rule = c.ConvergesAtTop(0.10)
+    ref = {s: 100.0 for s in range(1, 4)}
+
+    def top(values: dict[int, float]) -> dict[tuple[str, int], dict[str, dict[int, float]]]:
+        return {("m", 3): {"SR 1": _shift(ref, 500), "SR 10": values, "full": ref}}
+
+    assert rule.judge(top({1: 105.0, 2: 95.0, 3: 103.0}), "SR", ["full"], 0)[0] == "reproduced"
+    assert rule.judge(top({1: 140.0, 2: 70.0, 3: 150.0}), "SR", ["full"], 0)[0] == "partly"
+    assert rule.judge(top({1: 108.0, 2: 109.0, 3: 108.5}), "SR", ["full"], 0)[0] == "partly"
+    outcome, text = rule.judge(top({1: 150.0, 2: 160.0, 3: 155.0}), "SR", ["full"], 0)
+    assert outcome == "not reproduced"
+    assert text == "m/3r SR 10 - `full` 55 [43, 67] (n 3) vs 100: fails"
+    assert "<= 10% of the mean of `full`" in rule.describe("SR", "full", "T99")
 
 
-def test_fragment_outcome() -> None:
-    assert m.fragment_outcome([0.05, 0.2, 0.5]) == "reproduced"
-    assert m.fragment_outcome([0.05, 0.7]) == "partly"
-    assert m.fragment_outcome([1.2, 0.3]) == "partly"
-    assert m.fragment_outcome([1.2, 2.0]) == "not reproduced"
-    assert m.fragment_outcome([]) == "not reproduced"
+def test_paired_above_ratio_within_ratio_grows() -> None:
+    """§4/§5.1 slower (CI above 0 holds, mean weak); §5.2 similar (1.15 holds, 1.30 weak);
+    §5.1 advantage (the last ratio larger and above 1)."""
+    above = {("m", 3): {"a": _shift(STEADY, 11), "b": STEADY}}
+    assert c.PairedAbove().judge(above, "a", ["b"], 0) == (
+        "reproduced",
+        "m/3r 11 [11, 11] (n 5): holds",
+    )
+    mixed = {("m", 3): {"a": {1: 111.0, 2: 94.0, 3: 114.0}, "b": STEADY}}
+    assert c.PairedAbove().judge(mixed, "a", ["b"], 0)[0] == "partly"
+    assert c.PairedAbove().judge({("m", 3): {"a": STEADY, "b": _shift(STEADY, 5)}}, "a", ["b"], 0)[
+        0
+    ] == ("not reproduced")
+    similar = c.RatioWithin(0.15, 0.30)
+    for mean, outcome in (
+        (110.0, "reproduced"),
+        (90.0, "reproduced"),
+        (125.0, "partly"),
+        (140.0, "not reproduced"),
+    ):
+        assert (
+            similar.judge({("m", 3): {"a": {1: mean}, "b": {1: 100.0}}}, "a", ["b"], 0)[0]
+            == outcome
+        )
+    assert similar.judge({("m", 3): {"b": {1: 100.0}}}, "a", ["b"], 0)[0] == "not reproduced"
+    assert "<= 1.15 x that of `b` holds, <= 1.30 x weak" in similar.describe("a", "b", "T99")
+    grows = c.RatioGrows()
+    for (small, large), outcome in (
+        ((1.05, 1.2), "reproduced"),
+        ((0.8, 0.9), "partly"),
+        ((1.2, 1.1), "not reproduced"),
+        ((math.nan, 1.1), "not reproduced"),
+    ):
+        values = {
+            ("u", 3): {"x": {1: small}, "y": {1: 1.0}},
+            ("c", 5): {"x": {1: large}, "y": {1: 1.0}},
+        }
+        assert grows.judge(values, "x", ["y"], 3)[0] == outcome
+    assert grows.judge(values, "x", ["y"], 3)[1] == "u/3r -, c/5r 1.100"
 
 
-def test_cheaper_outcome() -> None:
-    assert m.cheaper_outcome([0.5, 0.9]) == "reproduced"
-    assert m.cheaper_outcome([0.5, 1.9]) == "partly"
-    assert m.cheaper_outcome([1.5, 1.9]) == "not reproduced"
+def test_ratio_bound() -> None:
+    """Fig. 7 fragment (<= 0.5 everywhere; partly: all < 1 or some <= 0.5) and §2 cheaper
+    (< 1 everywhere; partly: some)."""
+    fragment, cheaper = c.RatioBound(0.5, loose=1.0), c.RatioBound(1.0, strict=True)
+
+    def ratios(*xs: float) -> dict[tuple[str, int], dict[str, dict[int, float]]]:
+        arms = {f"SR {i + 1}": {1: x} for i, x in enumerate(xs)}
+        return {("m", 2): {**arms, "ref": {1: 1.0}, "half": {1: 2.0}}}
+
+    assert fragment.judge(ratios(0.05, 0.2, 0.5), "SR", ["ref"], 2)[0] == "reproduced"
+    assert fragment.judge(ratios(0.05, 0.7), "SR", ["ref"], 2)[0] == "partly"
+    assert fragment.judge(ratios(1.2, 0.3), "SR", ["ref"], 2)[0] == "partly"
+    assert fragment.judge(ratios(1.2, 2.0), "SR", ["ref"], 2)[0] == "not reproduced"
+    assert fragment.judge({}, "SR", ["ref"], 2)[0] == "not reproduced"
+    outcome, text = fragment.judge(ratios(0.9, 0.4), "SR", ["ref", "half"], 2)
+    assert outcome == "partly"  # judged against `ref` only: 0.45 and 0.2 against `half` are shown
+    assert text == "m/2r vs `ref`: SR 1 0.90, SR 2 0.40; m/2r vs `half`: SR 1 0.45, SR 2 0.20"
+    assert cheaper.judge(ratios(0.5, 0.9), "SR", ["ref"], 2)[0] == "reproduced"
+    assert cheaper.judge(ratios(0.5, 1.9), "SR", ["ref"], 2)[0] == "partly"
+    assert cheaper.judge(ratios(1.0, 1.9), "SR", ["ref"], 2)[0] == "not reproduced"
+    assert "reproduced if all are <= 0.5, partly if some are or all are < 1" in fragment.describe(
+        "SR", "ref / half", "bytes"
+    )
+    assert fragment.describe("SR", "ref / half", "b").endswith("(`half` shown, not judged)")
+
+
+def test_trends_as_paper_at_ends_falls_near_paper() -> None:
+    """Table 1 trends (all five types as the paper: reproduced, >= 3: partly), the TPT share
+    (>= 20% at the lowest SR and <= 5% at the highest), Table 2 (strictly falling and
+    within a factor 2)."""
+    rates = list(m.PAPER_TABLE1)
+
+    def ours(signs: dict[str, int]) -> dict[tuple[str, ...], dict[str, dict[int, float]]]:
+        return {
+            (t,): {f"SR {r:g}": {1: 50.0 + sign * i} for i, r in enumerate(rates)}
+            for t, sign in signs.items()
+        }
+
+    paper = {"TPT": -1, "ES": 1, "B": -1, "VP": 1, "EP": -1}
+    trends = c.TrendsAsPaper(m.PAPER_TABLE1, 0.3, 3)
+    assert trends.judge(ours(paper), "SR", [], 0) == (
+        "reproduced",
+        "trend signs paper/ours: TPT -1/-1, ES +1/+1, B -1/-1, VP +1/+1, EP -1/-1",
+    )
+    assert trends.judge(ours({**paper, "B": 0, "VP": -1}), "SR", [], 0)[0] == "partly"
+    assert trends.judge(ours({"TPT": 1, "ES": -1, "B": 1, "VP": 1, "EP": -1}), "SR", [], 0)[0] == (
+        "not reproduced"
+    )
+    tpt = c.AtEnds("TPT", 20.0, 5.0)
+    shares = {("TPT",): {"SR 0.04": {1: 31.0}, "SR 1": {1: 10.0}, "SR 25": {1: 0.8}}}
+    assert tpt.judge(shares, "SR", [], 1) == ("reproduced", "TPT: SR 0.04 31.0, SR 25 0.8")
+    assert tpt.judge({("TPT",): {"SR 1": {1: 31.0}, "SR 9": {1: 7.0}}}, "SR", [], 1)[0] == "partly"
+    assert (
+        tpt.judge({("TPT",): {"SR 1": {1: 10.0}, "SR 9": {1: 7.0}}}, "SR", [], 1)[0]
+        == "not reproduced"
+    )
+    assert tpt.judge({}, "SR", [], 1) == ("not reproduced", "TPT: - -, - -")
+    error = c.FallsNearPaper(m.PAPER_TABLE2, 2.0)
+
+    def errors(*xs: float) -> dict[tuple[str, int], dict[str, dict[int, float]]]:
+        return {("u", 3): {f"SR {r:g}": {1: x} for r, x in zip((0.1, 1.0, 10.0), xs, strict=False)}}
+
+    assert error.judge(errors(9.0, 1.0, 0.2), "SR", [], 2) == (
+        "reproduced",
+        "SR 0.1 9.00, SR 1 1.00, SR 10 0.20",
+    )
+    assert error.judge(errors(40.0, 10.0, 0.5), "SR", [], 2)[0] == "partly"
+    assert error.judge(errors(9.0, 10.0, 0.2), "SR", [], 2)[0] == "not reproduced"
+    assert error.judge(errors(9.0, 1.0), "SR", [], 2)[0] == "not reproduced"  # SR 10 missing
+
+
+def test_every_claim_says_how_it_is_judged() -> None:
+    ids = [claim.id for claim in m.CLAIMS]
+    assert ids == [
+        "decreasing",
+        "converge",
+        "slower",
+        "advantage",
+        "similar",
+        "tpt",
+        "trends",
+        "error",
+        "fragment",
+        "cheaper",
+    ]
+    for claim in m.CLAIMS:
+        assert (
+            claim.rule_text()
+            and claim.sentence
+            and claim.metric
+            in (
+                "time",
+                "shares",
+                "error",
+                "traffic",
+                "map_bytes",
+            )
+        )
 
 
 # -------------------------------------------- the measurement added for Table 2
@@ -332,24 +448,6 @@ def test_polygon_sharing_reports_mean_error_over_run() -> None:
 
 @pytest.mark.slow
 def test_full_reproduction(tmp_path: Path) -> None:
-    from mrexplore.cli import main
-
     assert main(["reproduce", "meier2006", "--out", str(tmp_path), "--no-progress"]) == 0
     text = _check_report(tmp_path, quick=False)
     assert "SR 25" in text
-
-
-def test_rows_of_a_setting() -> None:
-    quick = m.settings(True)
-    row = {"map": "corridor", "robots": 3}
-    assert m._of(row, quick["corridor5"]) and not m._of(row, quick["unstructured3"])
-    assert quick["corridor5"].store == quick["unstructured3"].store == "quick"
-    assert m.settings(False)["corridor5"].store == "corridor5"
-
-
-def test_figures_draw_without_data(tmp_path: Path) -> None:
-    setting = m.settings(True)["unstructured3"]
-    empty = m.SettingData(setting, {}, {}, failed=0, incomplete=0, curves={})
-    assert m._fig6([empty, empty], tmp_path / "f6.png").stat().st_size > 0
-    assert m._fig7(empty, tmp_path / "f7.png").stat().st_size > 0
-    assert m._table2_figure({}, tmp_path / "t2.png").stat().st_size > 0

@@ -1,5 +1,6 @@
-"""The Vazquez & Malcolm reproduction: the quick run end to end, its helpers on
-hand-made tables, and (marked slow) the full reproduction."""
+"""The Vazquez & Malcolm reproduction: the quick run end to end (with one reading of the
+paper), its claims on hand-made runs, the rules it added to the claims layer on hand-made
+values, and (marked slow) the full reproduction."""
 
 from __future__ import annotations
 
@@ -9,63 +10,85 @@ from pathlib import Path
 from typing import Any
 
 import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import vazquez2005 as vz
+from mrexplore.experiments.reproduce.claims import (
+    AtLeast,
+    Diminishing,
+    GapNarrows,
+    RatioAtMost,
+    RatioFalls,
+    RisesAbove,
+    Share,
+)
+from mrexplore.experiments.store import Store
+from mrexplore.experiments.sweep import sweep_from_dict
 from mrexplore.grid import generate_map
 
-OUTCOMES = ("reproduced", "partly", "not reproduced")
 VERDICT_LINE = re.compile(r"^- \*\*(reproduced|partly|not reproduced)\*\*: .+ \(.+\)$")
-N_CLAIMS = len(vz.verdicts([]))
+READING = "positions-every-tick"
 
 
 def _verdict_lines(report: str) -> list[str]:
-    section = report.split("## Verdicts", 1)[1]
+    section = report.split("## Verdicts", 1)[1].split("## Robustness", 1)[0]
     return [line for line in section.splitlines() if line.startswith("- **")]
 
 
 def _check_report(out: Path, quick: bool) -> str:
     report = (out / "report.md").read_text()
-    assert report.startswith(f"# {vz.REPRODUCTION.title}")
-    assert "Vazquez, C. Malcolm" in report
+    assert report.startswith(f"# Reproduction: {vz.TITLE}")
+    assert vz.CITATION in report
     assert ("indicative only" in report) is quick
-    assert "## Verdicts" in report
     lines = _verdict_lines(report)
-    assert len(lines) == N_CLAIMS
+    assert len(lines) == len(vz.CLAIMS) == 8
     for line in lines:
         assert VERDICT_LINE.match(line), line
-    # The paper's numbers (§4) beside ours.
+    # The paper's numbers (§4) beside ours, and its sentences.
     for number in ("10.2 m^2", "23.5 m^2", "45 cm", "1 m, 1.5 m, 2 m", "2-10", "+-5%"):
         assert number in report, number
+    for claim in vz.CLAIMS:
+        assert f'paper: "{claim.sentence}"' in report
     pngs = sorted(out.glob("*.png"))
-    assert any(p.name.startswith("fig6_") for p in pngs)
-    assert any(p.name.startswith("fig12_") for p in pngs)
-    assert any(p.name.startswith("map_") for p in pngs)
+    names = {p.name for p in pngs}
+    assert {"time_small.png", "fig12.png", "connected.png"} <= names
+    assert any(name.startswith("map_") for name in names)
     for png in pngs:
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert f"({png.name})" in report
     return report
 
 
-def test_quick_reproduction_through_the_cli(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    assert (
-        main(["reproduce", "vazquez2005", "--quick", "--out", str(tmp_path), "--no-progress"]) == 0
-    )
-    assert "report.md" in capsys.readouterr().out
-    report = _check_report(tmp_path, quick=True)
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("vazquez2005-quick")
+    argv = ["reproduce", "vazquez2005", "--quick", "--out", str(out), "--no-progress"]
+    # one reading keeps the suite short: it re-runs the 8 vazquez-network runs only
+    assert main([*argv, "--interpretations", READING]) == 0
+    return out
+
+
+def test_quick_reproduction_through_the_cli(quick_run: Path) -> None:
+    report = _check_report(quick_run, quick=True)
     assert "office 50x50" in report
+    robustness = report.split("## Robustness to the readings of the paper", 1)[1]
+    assert f"| claim | default | {READING} | summary |" in robustness
+    for claim in vz.CLAIMS:
+        assert re.search(
+            rf"^\| `{claim.id}` \| .* \| (robust|\*\*fragile\*\*.*) \|$", robustness, re.M
+        )
+    assert (quick_run / "readings" / READING / "small-vazquez" / "runs").is_dir()
+    assert not (quick_run / "readings" / READING / "small-yamauchi").exists()
 
 
 @pytest.mark.slow
 def test_full_reproduction(tmp_path: Path) -> None:
     assert main(["reproduce", "vazquez2005", "--out", str(tmp_path), "--no-progress"]) == 0
     report = _check_report(tmp_path, quick=False)
-    for figure in range(6, 12):
-        assert f"![Fig. {figure}]" in report
+    assert "time_large.png" in report
     assert "office 72x72" in report and "office 105x105" in report
 
 
@@ -77,7 +100,7 @@ def test_registered_and_settings_follow_the_paper() -> None:
     assert vz.SENSOR_RANGE_CELLS == 4.5
     assert vz.COMM_RANGES_CELLS == (20, 30, 40)
     full = vz.sweeps(False)
-    assert set(full) == {"small-vazquez", "small-yamauchi", "large"}
+    assert list(full) == ["small-vazquez", "small-yamauchi", "large-vazquez", "large-yamauchi"]
     yamauchi = full["small-yamauchi"]
     assert yamauchi.grid["robots"] == list(range(2, 11))
     assert len(yamauchi.seeds) == vz.PAPER_TRIALS
@@ -85,8 +108,20 @@ def test_registered_and_settings_follow_the_paper() -> None:
         assert sweep.fixed["map_seed"] == vz.MAP_SEED
         assert sweep.fixed["coverage_threshold"] == 1.0
         assert sweep.grid["comm_range"] == [20, 30, 40]
-    quick = vz.sweeps(True)
-    assert len(quick["small"]) == 16
+    assert [len(s) for s in vz.sweeps(True).values()] == [8, 8]
+    assert [row[0] for row in vz.SETTINGS_ROWS][:3] == ["simulator", "robot diameter", "sensor"]
+    assert all(len(row) == 3 and all(row) for row in vz.SETTINGS_ROWS)
+
+
+def test_the_split_sweeps_run_the_runs_of_the_former_combined_sweep() -> None:
+    """The quick sweep had both methods; split per method, its runs are the same."""
+    fixed = {**vz.FIXED, "size": "50x50", "max_ticks": 6000}
+    grid = {"strategy": [vz.VAZQUEZ, vz.YAMAUCHI], "robots": [4, 8], "comm_range": [20, 40]}
+    before = sweep_from_dict(
+        {"sweep": {"name": "small", "seeds": [1, 2]}, "fixed": fixed, "grid": grid}
+    )
+    after = [spec for sweep in vz.sweeps(True).values() for spec in sweep.runs()]
+    assert sorted(s.run_id for s in after) == sorted(s.run_id for s in before.runs())
 
 
 @pytest.mark.parametrize("label", ["small", "large"])
@@ -98,199 +133,269 @@ def test_office_maps_match_the_papers_areas(label: str) -> None:
     assert area == pytest.approx(spec.paper_area_m2, rel=0.02)
 
 
-# --------------------------------------------------------------------- hand-made tables
+def test_interpretations_change_one_strategy_parameter_each() -> None:
+    names = [i.name for i in vz.INTERPRETATIONS]
+    assert names == ["both-replan-on-arrival", READING]
+    replan, positions = vz.INTERPRETATIONS
+    assert replan.set == {"replan_on_target_explored": False}
+    assert set(replan.strategies) == {vz.VAZQUEZ, vz.YAMAUCHI}  # both arms alike
+    assert positions.set == {"position_period": 1} and positions.strategies == (vz.VAZQUEZ,)
 
 
-def _runs(rows: list[dict[str, Any]]) -> pa.Table:
-    defaults: dict[str, Any] = {
-        "size": "72x72",
-        "comm_range": 20.0,
-        "status": "complete",
-        "T99": None,
-        "explorable_cells": 4087,
-    }
-    full = []
-    for i, row in enumerate(rows):
-        merged = {**defaults, "run_id": f"r{i}", **row}
-        if "T100" not in merged:
-            merged["T100"] = merged["ticks"] if merged["status"] == "complete" else None
-        if merged["T99"] is None and merged["T100"] is not None:
-            merged["T99"] = merged["T100"]
-        full.append(merged)
-    return pa.Table.from_pylist(full)
+# --------------------------------------------------------------------- reading the runs
 
 
-def _records(rows: list[dict[str, Any]]) -> list[vz.RunRecord]:
-    return vz.run_records(_runs(rows))
-
-
-def _setting(strategy: str, robots: int, times: list[float], **extra: Any) -> list[dict[str, Any]]:
-    return [
-        {"strategy": strategy, "robots": robots, "seed": seed, "ticks": t, **extra}
-        for seed, t in enumerate(times, start=1)
+def test_run_rows_add_the_share_of_the_time_in_one_sub_network(tmp_path: Path) -> None:
+    store = Store(tmp_path / "small-vazquez")
+    store.create()
+    runs = [
+        {"run_id": "r0", "status": "complete"},
+        {"run_id": "r1", "status": "max_ticks"},
+        {"run_id": "r2", "status": "failed"},
     ]
+    pq.write_table(pa.Table.from_pylist(runs), store.root / "runs" / "run-0.parquet")
+    curves = {"run_id": ["r0"] * 4 + ["r1"] * 2, "subnetworks": [1, 1, 2, None, 1, 1]}
+    pq.write_table(pa.table(curves), store.root / "curves" / "run-0.parquet")
+    rows, statuses = vz.run_rows({"small-vazquez": store})
+    assert statuses == {"complete": 1, "failed": 1, "max_ticks": 1}
+    assert [(r["run_id"], r["connected_share"]) for r in rows] == [("r0", 0.5), ("r1", 1.0)]
+    empty = Store(tmp_path / "empty")
+    empty.create()
+    pq.write_table(pa.Table.from_pylist(runs[:1]), empty.root / "runs" / "run-0.parquet")
+    assert math.isnan(vz.run_rows({"empty": empty})[0][0]["connected_share"])  # no curves
 
 
-def test_run_records_keep_incomplete_runs_as_lower_bounds() -> None:
-    runs = _runs(
-        [
-            {"strategy": vz.VAZQUEZ, "robots": 2, "seed": 1, "ticks": 500},
-            {"strategy": vz.VAZQUEZ, "robots": 2, "seed": 2, "ticks": 900, "status": "max_ticks"},
-            {"strategy": vz.VAZQUEZ, "robots": 2, "seed": 3, "ticks": 10, "status": "failed"},
-            {"strategy": vz.VAZQUEZ, "robots": 2, "seed": 4, "ticks": 700, "size": "105x105"},
-        ]
-    )
-    curves = pa.table(
-        {
-            "run_id": ["r0", "r0", "r0", "r0", "r1", "r1"],
-            "subnetworks": [1, 1, 2, 1, 1, 1],
-        }
-    )
-    records = vz.run_records(runs, curves)
-    assert [r.seed for r in records] == [1, 2, 4]  # the failed run is left out
-    first, capped, large = records
-    assert first.complete and first.time == 500 and first.connected_share == 0.75
-    assert not capped.complete and capped.time == 900 and capped.status == "max_ticks"
-    assert capped.connected_share == 1.0
-    assert large.map == "large" and math.isnan(large.connected_share)
-    assert vz.connected_shares(None) == {}
+def _run(strategy: str, robots: int, seed: int, ticks: float, **extra: Any) -> dict[str, Any]:
+    complete = extra.pop("complete", True)
+    row = {"size": "72x72", "comm_range": 20.0, "strategy": strategy, "robots": robots}
+    row.update(seed=seed, ticks=ticks, T100=ticks if complete else None, T99=ticks - 1)
+    return {**row, "connected_share": 1.0, **extra}
 
 
-def test_comparisons_pair_on_common_seeds() -> None:
-    records = _records(
-        _setting(vz.YAMAUCHI, 4, [100, 110, 120, 130]) + _setting(vz.VAZQUEZ, 4, [150, 170])
-    )
-    (c,) = vz.comparisons(records)
-    assert c.seeds == (1, 2)
-    assert c.yamauchi.mean == 105 and c.vazquez.mean == 160
-    assert c.difference.mean == 55 and c.difference.n == 2
-    assert c.ratio == pytest.approx(160 / 105)
+def _runs(strategy: str, robots: int, times: list[float], **extra: Any) -> list[dict[str, Any]]:
+    return [_run(strategy, robots, s, t, **extra) for s, t in enumerate(times, start=1)]
 
 
-def test_verdict_faster() -> None:
-    slower = _records(_setting(vz.YAMAUCHI, 4, [100, 110]) + _setting(vz.VAZQUEZ, 4, [200, 210]))
-    assert vz.verdict_faster(slower).outcome == "not reproduced"
-    faster = _records(_setting(vz.YAMAUCHI, 4, [200, 210]) + _setting(vz.VAZQUEZ, 4, [100, 105]))
-    verdict = vz.verdict_faster(faster)
-    assert verdict.outcome == "reproduced"
-    assert "1/1 settings" in verdict.evidence
-    mixed = faster + _records(
-        _setting(vz.YAMAUCHI, 8, [100, 110]) + _setting(vz.VAZQUEZ, 8, [200, 210])
-    )
-    assert vz.verdict_faster(mixed).outcome == "partly"
-    assert vz.verdict_faster([]).outcome == "not reproduced"
+def test_run_values_keep_incomplete_runs_as_lower_bounds() -> None:
+    rows = [*_runs(vz.VAZQUEZ, 2, [500, 700]), _run(vz.VAZQUEZ, 2, 3, 900, complete=False)]
+    rows += [_run(vz.VAZQUEZ, 2, 1, 300, size="105x105", comm_range=40.0)]
+    values = vz.run_values(rows)
+    small, large = values["time"]  # maps in the paper's order
+    assert (small, large) == (("small", 1.0, 2), ("large", 2.0, 2))
+    assert str(small[1]) == "1 m" and str(large[1]) == "2 m"
+    assert values["time"][small][vz.VAZQUEZ] == {1: 500.0, 2: 700.0, 3: 900.0}
+    assert values["complete"][small][vz.VAZQUEZ] == {1: 1.0, 2: 1.0, 3: 0.0}
+    assert values["time"][small][f"{vz.VAZQUEZ} T99"] == {1: 499.0, 2: 699.0, 3: 899.0}
+    assert values["ranges"][("large", 2)] == {f"{vz.VAZQUEZ}, 2 m": {1: 300.0}}
 
 
-def test_verdict_team_size_trend() -> None:
-    diminishing = _records(
-        _setting(vz.VAZQUEZ, 2, [1000])
-        + _setting(vz.VAZQUEZ, 6, [400])
-        + _setting(vz.VAZQUEZ, 10, [300])
-    )
-    assert vz.verdict_team_size_trend(diminishing).outcome == "reproduced"
-    accelerating = _records(
-        _setting(vz.VAZQUEZ, 2, [1000])
-        + _setting(vz.VAZQUEZ, 6, [900])
-        + _setting(vz.VAZQUEZ, 10, [300])
-    )
-    assert vz.verdict_team_size_trend(accelerating).outcome == "not reproduced"
-    rising = _records(_setting(vz.YAMAUCHI, 2, [300]) + _setting(vz.YAMAUCHI, 10, [400]))
-    assert vz.verdict_team_size_trend(diminishing + rising).outcome == "partly"
+# --------------------------------------------------------------------- the claims
 
 
-def test_verdict_yamauchi_worse_above_seven() -> None:
-    rows = (
-        _setting(vz.YAMAUCHI, 6, [300])
-        + _setting(vz.YAMAUCHI, 7, [250])
-        + _setting(vz.YAMAUCHI, 8, [260])
-        + _setting(vz.YAMAUCHI, 10, [270])
-    )
-    assert vz.verdict_yamauchi_worse_above_seven(_records(rows)).outcome == "reproduced"
-    better = [dict(r, ticks=200) if r["robots"] == 10 else r for r in rows]
-    verdict = vz.verdict_yamauchi_worse_above_seven(_records(better))
-    assert verdict.outcome == "not reproduced"
-    assert "7 robots 250" in verdict.evidence
+def _verdict(claim_id: str, rows: list[dict[str, Any]]) -> tuple[str, str]:
+    claim = next(c for c in vz.CLAIMS if c.id == claim_id)
+    verdict = claim.judge(vz.run_values(rows))
+    return verdict.outcome, verdict.evidence
+
+
+def test_the_claims_keep_their_rules_and_thresholds() -> None:
+    rules = {c.id: c.rule for c in vz.CLAIMS}
+    assert list(rules) == [
+        "trend",
+        "faster",
+        "above_7",
+        "variance",
+        "range_tradeoff",
+        "range_gap",
+        "incremental",
+        "network",
+    ]
+    t99 = (f"{vz.VAZQUEZ} T99", f"{vz.YAMAUCHI} T99")
+    assert rules["faster"] == Share("<", 0.9, 1 / 3, also=t99)
+    assert rules["variance"] == Share(">", 0.75, 0.5, "sd", min_seeds=2)
+    assert rules["above_7"] == RisesAbove(7, ("small",))
+    assert rules["range_tradeoff"] == RatioAtMost(1.25)
+    assert rules["network"] == AtLeast(0.95, 0.8)
+
+
+def test_faster() -> None:
+    slower = _runs(vz.YAMAUCHI, 4, [100, 110]) + _runs(vz.VAZQUEZ, 4, [200, 210])
+    assert _verdict("faster", slower)[0] == "not reproduced"
+    faster = _runs(vz.YAMAUCHI, 4, [200, 210]) + _runs(vz.VAZQUEZ, 4, [100, 105])
+    outcome, evidence = _verdict("faster", faster)
+    assert outcome == "reproduced" and "holds in 1/1 cells" in evidence
+    assert "`vazquez-network T99` vs `nearest-frontier T99`: holds in 1/1" in evidence
+    mixed = faster + _runs(vz.YAMAUCHI, 8, [100, 110]) + _runs(vz.VAZQUEZ, 8, [200, 210])
+    assert _verdict("faster", mixed)[0] == "partly"  # 1/2 >= 1/3
+    assert _verdict("faster", [])[0] == "not reproduced"
+
+
+def test_team_size_trend() -> None:
+    diminishing = _runs(vz.VAZQUEZ, 2, [1000]) + _runs(vz.VAZQUEZ, 6, [400])
+    diminishing += _runs(vz.VAZQUEZ, 10, [300])
+    assert _verdict("trend", diminishing)[0] == "reproduced"
+    accelerating = _runs(vz.VAZQUEZ, 2, [1000]) + _runs(vz.VAZQUEZ, 6, [900])
+    accelerating += _runs(vz.VAZQUEZ, 10, [300])
+    assert _verdict("trend", accelerating)[0] == "not reproduced"
+    rising = _runs(vz.YAMAUCHI, 2, [300]) + _runs(vz.YAMAUCHI, 10, [400])
+    assert _verdict("trend", diminishing + rising)[0] == "partly"
+
+
+def test_yamauchi_worse_above_seven() -> None:
+    rows = [_run(vz.YAMAUCHI, n, 1, t) for n, t in ((6, 300), (7, 250), (8, 260), (10, 270))]
+    assert _verdict("above_7", rows)[0] == "reproduced"
+    better = [dict(r, ticks=200, T100=200) if r["robots"] == 10 else r for r in rows]
+    outcome, evidence = _verdict("above_7", better)
+    assert outcome == "not reproduced" and "250 at 7" in evidence
     other_range = [dict(r, comm_range=40.0) for r in better]
-    assert vz.verdict_yamauchi_worse_above_seven(_records(rows + other_range)).outcome == "partly"
-    # Only the small map counts.
-    large = [dict(r, size="105x105") for r in rows]
-    assert vz.verdict_yamauchi_worse_above_seven(_records(large)).outcome == "not reproduced"
+    assert _verdict("above_7", rows + other_range)[0] == "partly"
+    large = [dict(r, size="105x105") for r in rows]  # only the small map counts
+    assert _verdict("above_7", large)[0] == "not reproduced"
 
 
-def test_verdict_variance() -> None:
-    noisy_yamauchi = _records(
-        _setting(vz.YAMAUCHI, 4, [100, 300]) + _setting(vz.VAZQUEZ, 4, [200, 210])
-    )
-    assert vz.verdict_variance(noisy_yamauchi).outcome == "reproduced"
-    noisy_vazquez = _records(
-        _setting(vz.YAMAUCHI, 4, [100, 105]) + _setting(vz.VAZQUEZ, 4, [200, 400])
-    )
-    assert vz.verdict_variance(noisy_vazquez).outcome == "not reproduced"
-    one_seed = _records(_setting(vz.YAMAUCHI, 4, [100]) + _setting(vz.VAZQUEZ, 4, [200]))
-    assert vz.verdict_variance(one_seed).outcome == "not reproduced"
+def test_variance() -> None:
+    noisy_yamauchi = _runs(vz.YAMAUCHI, 4, [100, 300]) + _runs(vz.VAZQUEZ, 4, [200, 210])
+    assert _verdict("variance", noisy_yamauchi)[0] == "reproduced"
+    noisy_vazquez = _runs(vz.YAMAUCHI, 4, [100, 105]) + _runs(vz.VAZQUEZ, 4, [200, 400])
+    assert _verdict("variance", noisy_vazquez)[0] == "not reproduced"
+    one_seed = _runs(vz.YAMAUCHI, 4, [100]) + _runs(vz.VAZQUEZ, 4, [200])
+    assert _verdict("variance", one_seed)[0] == "not reproduced"
 
 
-def _by_range(times: dict[tuple[float, int], float]) -> list[vz.RunRecord]:
-    rows = []
-    for (comm_range, robots), t in times.items():
-        rows += _setting(vz.VAZQUEZ, robots, [t], comm_range=comm_range)
-    return _records(rows)
+def _by_range(times: dict[tuple[float, int], float]) -> list[dict[str, Any]]:
+    return [_run(vz.VAZQUEZ, n, 1, t, comm_range=r) for (r, n), t in times.items()]
 
 
-def test_verdicts_on_ranges() -> None:
+def test_ranges() -> None:
     similar = _by_range({(20, 2): 1100, (40, 2): 1000, (20, 10): 310, (40, 10): 300})
-    assert vz.verdict_range_tradeoff(similar).outcome == "reproduced"
-    assert vz.verdict_range_gap(similar).outcome == "reproduced"
+    assert _verdict("range_tradeoff", similar)[0] == "reproduced"
+    assert _verdict("range_gap", similar)[0] == "reproduced"
     # The gap in ticks shrinks but the ratio grows: partly.
     growing = _by_range({(20, 2): 2000, (40, 2): 1000, (20, 10): 900, (40, 10): 300})
-    assert vz.verdict_range_tradeoff(growing).outcome == "not reproduced"
-    gap = vz.verdict_range_gap(growing)
-    assert gap.outcome == "partly"
-    assert "x2.00" in gap.evidence and "x3.00" in gap.evidence
+    assert _verdict("range_tradeoff", growing)[0] == "not reproduced"
+    outcome, evidence = _verdict("range_gap", growing)
+    assert outcome == "partly" and "x2.00" in evidence and "x3.00" in evidence
     widening = _by_range({(20, 2): 1100, (40, 2): 1000, (20, 10): 800, (40, 10): 300})
-    assert vz.verdict_range_gap(widening).outcome == "not reproduced"
+    assert _verdict("range_gap", widening)[0] == "not reproduced"
     half = _by_range({(20, 2): 1100, (40, 2): 1000, (20, 10): 900, (40, 10): 300})
-    assert vz.verdict_range_tradeoff(half).outcome == "partly"
+    assert _verdict("range_tradeoff", half)[0] == "partly"
 
 
-def test_verdict_incremental() -> None:
-    rows = (
-        _setting(vz.YAMAUCHI, 2, [1000])
-        + _setting(vz.VAZQUEZ, 2, [2000])
-        + _setting(vz.YAMAUCHI, 10, [300])
-        + _setting(vz.VAZQUEZ, 10, [330])
-    )
-    verdict = vz.verdict_incremental(_records(rows))
-    assert verdict.outcome == "reproduced"
-    assert "2.00 -> 1.10" in verdict.evidence
+def test_incremental() -> None:
+    rows = _runs(vz.YAMAUCHI, 2, [1000]) + _runs(vz.VAZQUEZ, 2, [2000])
+    rows += _runs(vz.YAMAUCHI, 10, [300]) + _runs(vz.VAZQUEZ, 10, [330])
+    outcome, evidence = _verdict("incremental", rows)
+    assert outcome == "reproduced" and "2.00 -> 1.10" in evidence
     worse = [
-        dict(r, ticks=900) if r["robots"] == 10 and r["strategy"] == vz.VAZQUEZ else r for r in rows
+        dict(r, T100=900) if r["robots"] == 10 and r["strategy"] == vz.VAZQUEZ else r for r in rows
     ]
-    assert vz.verdict_incremental(_records(worse)).outcome == "not reproduced"
+    assert _verdict("incremental", worse)[0] == "not reproduced"
 
 
-def test_verdict_network() -> None:
-    runs = _runs(_setting(vz.VAZQUEZ, 4, [100, 100]) + _setting(vz.YAMAUCHI, 4, [100, 100]))
-
-    def shares(vazquez_second: list[int]) -> pa.Table:
-        return pa.table(
-            {
-                "run_id": ["r0"] * 10 + ["r1"] * 10 + ["r2"] * 2 + ["r3"] * 2,
-                "subnetworks": [1] * 10 + vazquez_second + [2, 2] + [1, 2],
-            }
+def test_network() -> None:
+    def rows(vazquez: float, yamauchi: float = 0.25) -> list[dict[str, Any]]:
+        return _runs(vz.VAZQUEZ, 4, [100], connected_share=vazquez) + _runs(
+            vz.YAMAUCHI, 4, [100], connected_share=yamauchi
         )
 
-    verdict = vz.verdict_network(vz.run_records(runs, shares([1] * 10)))
-    assert verdict.outcome == "reproduced"
-    assert "1.00-1.00" in verdict.evidence and "Yamauchi 0.25-0.25" in verdict.evidence
-    partly = vz.verdict_network(vz.run_records(runs, shares([1] * 8 + [2] * 2)))  # mean 0.9
-    assert partly.outcome == "partly"
-    split = vz.verdict_network(vz.run_records(runs, shares([1] * 2 + [2] * 8)))  # mean 0.6
-    assert split.outcome == "not reproduced"
-    assert vz.verdict_network(vz.run_records(runs)).outcome == "not reproduced"
+    outcome, evidence = _verdict("network", rows(1.0))
+    assert outcome == "reproduced"
+    assert "`vazquez-network` 1.00-1.00; `nearest-frontier` 0.25-0.25" in evidence
+    assert _verdict("network", rows(0.9))[0] == "partly"
+    assert _verdict("network", rows(0.6))[0] == "not reproduced"
+    assert _verdict("network", rows(math.nan))[0] == "not reproduced"  # no curves
 
 
-def test_verdicts_on_nothing_still_give_one_line_per_claim() -> None:
-    lines = [v.line() for v in vz.verdicts([])]
-    assert len(lines) == N_CLAIMS
-    assert all(VERDICT_LINE.match(line) for line in lines)
+def test_every_claim_gives_a_verdict_line_on_no_runs() -> None:
+    for claim in vz.CLAIMS:
+        line = claim.judge(vz.run_values([])).line()
+        assert VERDICT_LINE.match(line), line
+        assert line.startswith("- **not reproduced**")
+
+
+# --------------------------------------------------------------------- the new rules
+
+
+FAST = {1: 10.0, 2: 12.0, 3: 11.0}
+SLOW = {1: 20.0, 2: 25.0, 3: 21.0}
+
+
+def test_share_counts_cells_and_cites_ratios_paired_differences_and_a_second_measure() -> None:
+    values = {
+        ("m", 2): {"a": FAST, "b": SLOW, "a'": FAST, "b'": SLOW},
+        ("m", 4): {"a": SLOW, "b": FAST, "a'": FAST, "b'": SLOW},
+    }
+    rule = Share("<", 0.9, 0.5, also=("a'", "b'"))
+    outcome, text = rule.judge(values, "a", ["b"], 0)
+    assert outcome == "partly"  # 1 of 2 cells
+    assert text.startswith("holds in 1/2 cells (paired 95% CI below 0 in 1, above 0 in 1)")
+    assert "ratio `a` / `b` median 1.25, range 0.50-2.00, lowest at m/2r" in text
+    assert "m/4r 22 vs 11 (paired 11 [" in text and text.count(" x") == 1
+    assert text.endswith("`a'` vs `b'`: holds in 2/2 cells")
+    spread = Share(">", 0.75, 0.5, "sd", min_seeds=2)
+    outcome, text = spread.judge({("m", 2): {"a": SLOW, "b": FAST}}, "a", ["b"], 1)
+    assert outcome == "reproduced" and "m/2r 2.6 vs 1.0" in text and "paired" not in text
+    assert spread.judge({("m", 2): {"a": {1: 1.0}, "b": {1: 2.0}}}, "a", ["b"], 0) == (
+        "not reproduced",
+        "no cell with both arms",
+    )
+    assert "at least 90% of the cells, partly if in at least 50%" in rule.describe("a", "b", "T")
+    assert "(also counted on `a'` vs `b'`)" in rule.describe("a", "b", "T")
+
+
+def test_diminishing_needs_a_falling_curve_whose_drops_shrink() -> None:
+    values = {("m", n): {"a": {1: 900.0 / n}, "b": {1: 100.0 - n}} for n in (1, 3, 9)}
+    outcome, text = Diminishing().judge(values, "a", ["b"], 0)
+    assert outcome == "partly"
+    assert text == (
+        "falls in 2/2 curves, with diminishing returns in 1/2; `a` m: 900 -> 300 -> 100; "
+        "`b` m: 99 -> 97 -> 91 x"
+    )
+    two = {("m", n): {"a": {1: 10.0 - n}} for n in (1, 2)}
+    assert Diminishing().judge(two, "a", [], 0) == (
+        "reproduced",
+        "falls in 1/1 curves, with diminishing returns in 1/1; `a` m: 9 -> 8",
+    )
+    assert "diminishing returns" in Diminishing().describe("a", "b", "T")
+
+
+def test_ratio_rules() -> None:
+    values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
+    assert RatioAtMost(1.25).judge(values, "a", ["b"], 0) == (
+        "partly",
+        "at most 1.25 in 1/2 cells: m/1r 1.10; m/5r 1.50 x",
+    )
+    assert RatioFalls().judge(values, "a", ["b"], 0) == (
+        "not reproduced",
+        "falls in 0/1 groups: m: 1.10 -> 1.50 x",
+    )
+    assert GapNarrows().judge(values, "a", ["b"], 0) == (
+        "not reproduced",
+        "the gap shrinks in 0/1 groups, the ratio too in 0/1: m: 1: 1 (x1.10) -> 5: 5 (x1.50)",
+    )
+    narrowing = {("m", n): {"a": {1: 20.0 / n}, "b": {1: 10.0 / n + 1}} for n in (1, 5)}
+    assert GapNarrows().judge(narrowing, "a", ["b"], 0)[0] == "reproduced"
+    assert RatioFalls().judge(narrowing, "a", ["b"], 0)[0] == "reproduced"
+    assert "at most 1.25" in RatioAtMost(1.25).describe("a", "b", "T")
+    assert "as a difference and as a ratio" in GapNarrows().describe("a", "b", "T")
+    assert "falls from the smallest to the largest" in RatioFalls().describe("a", "b", "T")
+
+
+def test_rises_above_and_at_least() -> None:
+    values = {("s", r, n): {"a": {1: t + r}} for r in (1, 2) for n, t in ((6, 30.0), (8, 31.0))}
+    values[("s", 2, 8)] = {"a": {1: 20.0}}
+    values[("t", 1, 8)] = {"a": {1: 1.0}}  # not in the group ("s",): ignored
+    outcome, text = RisesAbove(7, ("s",)).judge(values, "a", [], 0)
+    assert (outcome, text) == (
+        "partly",
+        "holds in 1/2 groups: s/1: 31 at 6, 32 at 8; s/2: 32 at 6, 20 at 8 x",
+    )
+    assert "above 7" in RisesAbove(7, ("s",)).describe("a", "", "T")
+    shares = {("m", 2): {"a": {1: 0.97, 2: 0.99}, "b": {1: 0.3}}, ("m", 4): {"a": {1: math.nan}}}
+    assert AtLeast(0.95, 0.8).judge(shares, "a", ["b"], 2) == (
+        "reproduced",
+        "mean per cell: `a` 0.98-0.98; `b` 0.30-0.30",
+    )
+    assert AtLeast(0.99, 0.8).judge(shares, "a", ["b"], 2)[0] == "partly"
+    assert AtLeast(0.95, 0.8).judge({}, "a", ["b"], 2) == ("not reproduced", "no value of `a`")
+    assert "at least 0.95 in every cell" in AtLeast(0.95, 0.8).describe("a", "b", "share")

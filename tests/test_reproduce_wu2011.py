@@ -1,5 +1,6 @@
-"""Reproduction of Wu, Puig and Garcia §V: the quick run end to end, the helpers on
-hand-made tables, and the full run (slow)."""
+"""Reproduction of Wu, Puig and Garcia §V: the quick run end to end (one reading of the
+paper besides the default), the helpers and the rule objects on hand-made tables, and
+the full run (slow)."""
 
 from __future__ import annotations
 
@@ -14,10 +15,22 @@ import pytest
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import wu2011 as repro
-from mrexplore.experiments.stats import summarize_metric
+from mrexplore.experiments.reproduce.base import interpret
+from mrexplore.experiments.reproduce.claims import Lowest, NotBelowAll, TrendForAll, Unpaired
+from mrexplore.experiments.store import Store
 
-QUICK_FIGURES = ("fig6_wtv_together.png", "fig7_wtv_separate.png", "fig8_epv_separate.png")
-FULL_FIGURES = (*QUICK_FIGURES, "wtv_all_combinations.png", "epv_all_combinations.png")
+READING = "kme-replans-on-arrival"
+QUICK_FIGURES = tuple(
+    f"fig{n}_{kind}_{scheme}_{robots}r.png"
+    for n, kind, scheme in ((6, "wtv", "together"), (7, "wtv", "separate"), (8, "epv", "separate"))
+    for robots in repro.QUICK_TEAM_SIZES
+)
+FULL_FIGURES = (
+    *(name.replace("_4r", "_8r") for name in QUICK_FIGURES),
+    "wtv_all_combinations.png",
+    "epv_all_combinations.png",
+)
+FIG7_4 = ("unstructured", "separate", 4)
 N_CLAIMS = 8  # Fig. 6: 3, Fig. 7: 2, Fig. 8: 1, §V.C: 2
 VERDICT = re.compile(r"^- \*\*(reproduced|partly|not reproduced)\*\*: (.+)$")
 
@@ -32,20 +45,9 @@ def _check_report(out: Path, figures: tuple[str, ...]) -> str:
     assert len(lines) == N_CLAIMS
     for line in lines:
         assert VERDICT.match(line), line
-    # The paper's statements and numbers, as typed in.
-    for claim in (
-        repro.PAPER_FIG6_FEWER_ROBOTS_HIGHER,
-        repro.PAPER_FIG7_SEPARATE_LOWER,
-        repro.PAPER_SIX_COMBINATIONS,
-        repro.PAPER_ZLOT_NOT_SUPERIOR,
-    ):
-        assert claim in text
-    for numbers in (
-        repro.PAPER_FIG6_KME_LOWEST,
-        repro.PAPER_FIG6_KME_FINAL_NOT_LOWEST,
-        repro.PAPER_FIG8_KME_LOWEST,
-    ):
-        assert str(numbers) in text
+    for claim in repro.CLAIMS:  # the paper's sentences, in their sections and verdicts
+        assert text.count(f'"{claim.sentence}"') >= 2, claim.id
+        assert f"- `{claim.id}`: " in text
     assert f"{repro.PAPER_CONFIGURATIONS} configurations" in text
     assert f"{repro.PAPER_RUNS_PER_CONFIGURATION} set-ups" in text
     for name in figures:
@@ -57,42 +59,72 @@ def _check_report(out: Path, figures: tuple[str, ...]) -> str:
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("wu2011-quick")
-    assert main(["reproduce", "wu2011", "--quick", "--out", str(out), "--no-progress"]) == 0
+    argv = ["reproduce", "wu2011", "--quick", "--out", str(out), "--no-progress"]
+    # one reading keeps the suite short (it re-runs the 8 quick KME runs only)
+    assert main([*argv, "--interpretations", READING]) == 0
     return out
 
 
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
     text = _check_report(quick_run, QUICK_FIGURES)
     assert "**Quick run**" in text.split("## Settings")[0]
-    assert (quick_run / "unstructured" / "runs").is_dir()
     assert "failed" not in text.split("## Settings")[0]
-    # Every seed placed the team differently, and the strategies of a seed alike.
-    section = text.split("## Start set-ups", 1)[1].split("## Fig. 6", 1)[0]
-    rows = [line for line in section.splitlines() if line.startswith("| unstructured")]
-    assert len(rows) == 2 * len(repro.QUICK_TEAM_SIZES)
-    for row in rows:
-        distinct, seeds, equal = (int(x) for x in row.strip("| ").split(" | ")[3:])
-        assert distinct == seeds == equal == len(repro.QUICK_SEEDS)
+    for strategy in repro.STRATEGIES:
+        assert (quick_run / f"unstructured-{strategy}" / "runs").is_dir()
+    robustness = text.split("## Robustness to the readings of the paper", 1)[1]
+    assert f"| claim | default | {READING} | summary |" in robustness
+    for claim in repro.CLAIMS:
+        assert re.search(
+            rf"^\| `{claim.id}` \| .* \| (robust|\*\*fragile\*\*.*) \|$", robustness, re.M
+        )
+    assert (quick_run / "readings" / READING / "unstructured-kme" / "runs").is_dir()
+    assert not (quick_run / "readings" / READING / "unstructured-burgard").exists()
+
+
+def test_quick_runs_are_paired_by_seed(quick_run: Path) -> None:
+    """Every seed places the team elsewhere, and the four strategies of a seed alike."""
+    starts: dict[tuple[str, int, int], set[str]] = {}
+    for strategy in repro.STRATEGIES:
+        runs = Store(quick_run / f"unstructured-{strategy}").tables()[0].to_pylist()
+        for r in runs:
+            starts.setdefault((r["start"], r["robots"], r["seed"]), set()).add(r["starts"])
+    assert len(starts) == 2 * len(repro.QUICK_TEAM_SIZES) * len(repro.QUICK_SEEDS)
+    assert all(len(s) == 1 for s in starts.values())  # the strategies of a seed alike
+    for scheme in repro.STARTS:
+        for robots in repro.QUICK_TEAM_SIZES:
+            by_seed = [starts[scheme, robots, seed] for seed in repro.QUICK_SEEDS]
+            assert len({frozenset(s) for s in by_seed}) == len(repro.QUICK_SEEDS)
 
 
 def test_registered() -> None:
     reproduction = get_reproduction("wu2011")
     assert reproduction is repro.REPRODUCTION
     assert reproduction.id == "wu2011"
+    assert reproduction.interpretation_names() == [READING, "all-replan-on-arrival"]
 
 
 def test_full_sweeps_have_the_papers_design() -> None:
     sweeps = repro.sweeps(False)
-    assert list(sweeps) == list(repro.MAPS)
+    assert list(sweeps) == [f"{m}-{s}" for m in repro.MAPS for s in repro.STRATEGIES]
     for name, sweep in sweeps.items():
-        # 2 schemes x 4 strategies x 4 team sizes x 15 set-ups, one map per type.
-        assert len(sweep) == 2 * 4 * 4 * 15
+        # 2 schemes x 4 team sizes x 15 set-ups, one map per type, one strategy.
+        assert len(sweep) == 2 * 4 * 15
         scenarios = [spec.scenario for spec in sweep.runs()]
-        assert {s.map for s in scenarios} == {name}
+        assert {f"{s.map}-{s.strategy}" for s in scenarios} == {name}
         assert {s.map_seed for s in scenarios} == {repro.MAP_SEED}
         assert {s.start for s in scenarios} == {"together", "separate"}
         assert {s.coverage_threshold for s in scenarios} == {1.0}
     assert sum(len(s) for s in sweeps.values()) == 1440
+
+
+def test_readings_change_whole_sweeps_of_the_strategies_with_the_trigger() -> None:
+    for interpretation in repro.INTERPRETATIONS:
+        for name, sweep in repro.sweeps(True).items():
+            changed = interpret(sweep, interpretation)  # never a partly applying sweep
+            strategy = name.removeprefix("unstructured-")
+            assert (changed is not None) == (strategy in interpretation.strategies), name
+            if changed is not None:
+                assert changed.runs()[0].scenario.params["replan_on_target_explored"] is False
 
 
 def test_separate_starts_differ_between_seeds_and_not_between_strategies() -> None:
@@ -122,29 +154,26 @@ def test_separate_starts_differ_between_seeds_and_not_between_strategies() -> No
 def test_step_values_and_time_mean_carry_the_final_value() -> None:
     ticks = np.array([0.0, 10.0, 20.0, 23.0])
     values = np.array([4.0, 8.0, 6.0, 2.0])
-    grid = repro.horizon_grid(40, 10)
-    assert grid.tolist() == [0.0, 10.0, 20.0, 30.0, 40.0]
+    grid = np.array([0.0, 10.0, 20.0, 30.0, 40.0])
     assert repro.step_values(ticks, values, grid).tolist() == [4.0, 8.0, 6.0, 2.0, 2.0]
     assert repro.time_mean(ticks, values, 40, 10) == pytest.approx(22.0 / 5)
+    assert repro.time_mean(ticks, values, 25, 10) == pytest.approx((4 + 8 + 6 + 2) / 4)
     # Before the first sample there is no value.
     assert math.isnan(repro.step_values(np.array([5.0]), np.array([1.0]), np.array([0.0]))[0])
 
 
-def _runs_and_curves() -> tuple[pa.Table, pa.Table]:
+def _rows_and_curves() -> tuple[list[dict[str, object]], pa.Table]:
     """Two seeds x two strategies, one panel; KME's WTV falls faster."""
     runs = pa.table(
         {
-            "run_id": ["k1", "k2", "y1", "y2", "bad"],
-            "map": ["unstructured"] * 5,
-            "start": ["together"] * 5,
-            "robots": [4] * 5,
-            "strategy": ["kme", "kme", "nearest-frontier", "nearest-frontier", "burgard"],
-            "seed": [1, 2, 1, 2, 1],
-            "status": ["complete"] * 4 + ["failed"],
-            "starts": ["[[1, 1]]", "[[2, 2]]", "[[1, 1]]", "[[2, 2]]", None],
-            "T100": [30, 40, 20, 60, None],
-            "wtv_8_final": [10.0, 20.0, 30.0, 50.0, None],
-            "epv_8_final": [0.0, 0.0, 0.0, 0.0, None],
+            "run_id": ["k1", "k2", "y1", "y2"],
+            "map": ["unstructured"] * 4,
+            "start": ["together"] * 4,
+            "robots": [4] * 4,
+            "strategy": ["kme", "kme", "nearest-frontier", "nearest-frontier"],
+            "seed": [1, 2, 1, 2],
+            "T100": [30, 40, 20, None],
+            "wtv_8_final": [10.0, 20.0, 30.0, 50.0],
         }
     )
     curves = pa.table(
@@ -160,60 +189,149 @@ def _runs_and_curves() -> tuple[pa.Table, pa.Table]:
             "epv_8": [0.0] * 19,
         }
     )
-    return runs, curves
+    return runs.to_pylist(), curves
 
 
-def test_run_values_use_one_horizon_per_map_and_team_size() -> None:
-    runs, curves = _runs_and_curves()
-    values = {v.run_id: v for v in repro.run_values(runs, curves, every=10)}
-    assert set(values) == {"k1", "k2", "y1", "y2"}  # the failed run is left out
+def test_curve_means_use_one_horizon_per_map_and_team_size() -> None:
+    rows, curves = _rows_and_curves()
+    values = {r["run_id"]: r for r in repro.with_curve_means(rows, curves)}
     # Horizon 60 (y2's end): k1 = (50+30+20+10+10+10+10)/7, y1 = (50+40+30*5)/7.
-    assert values["k1"].wtv_time == pytest.approx(140.0 / 7)
-    assert values["y1"].wtv_time == pytest.approx(240.0 / 7)
-    assert values["y2"].wtv_time == pytest.approx(397.0 / 7)
-    assert values["k2"].t100 == 40.0 and values["k2"].wtv_final == 20.0
-    stats = repro.panel_means(values.values(), "wtv_time")
-    panel = ("unstructured", "together", 4)
-    assert repro.lowest(stats[panel]) == "kme"
-    assert stats[panel]["kme"].n == 2
-    assert repro.start_check(list(values.values())) == [("unstructured", "together", 4, 2, 2, 2)]
+    assert {r["horizon"] for r in values.values()} == {60}
+    assert values["k1"]["wtv_time"] == pytest.approx(140.0 / 7)
+    assert values["y1"]["wtv_time"] == pytest.approx(240.0 / 7)
+    assert values["y2"]["wtv_time"] == pytest.approx(397.0 / 7)
+    assert math.isnan(repro.with_curve_means(rows[:1], None)[0]["wtv_time"])  # no curve
+    table = repro.run_values(list(values.values()))
+    cell = ("unstructured", "together", 4)
+    assert table["wtv_final"][cell]["kme"] == {1: 10.0, 2: 20.0}
+    assert math.isnan(table["t100"][cell]["nearest-frontier"][2])  # missing, not 0
 
 
-def test_outcome_rules() -> None:
-    assert repro.count_outcome(3, 3) == "reproduced"
-    assert repro.count_outcome(9, 18) == "partly"
-    assert repro.count_outcome(8, 18) == "not reproduced"
-    assert repro.decreasing_outcome({"a": {2: 5.0, 4: 3.0, 6: 2.0}}) == "reproduced"
-    assert repro.decreasing_outcome({"a": {2: 5.0, 4: 6.0, 6: 2.0}}) == "partly"
-    assert repro.decreasing_outcome({"a": {2: 5.0, 4: 6.0, 6: 7.0}}) == "not reproduced"
+def test_the_claims_read_their_panels() -> None:
+    rows, curves = _rows_and_curves()
+    separate = [{**r, "start": "separate", "run_id": f"s{r['run_id']}"} for r in rows]
+    two = [{**r, "robots": 2, "run_id": f"t{r['run_id']}"} for r in rows]
+    stores = {"x": _FakeStore(pa.Table.from_pylist([*rows, *separate, *two]), curves)}
+    tables = repro.tables(stores, quick=True)  # type: ignore[arg-type]  # a Store stand-in
+    assert set(tables) == {c.metric for c in repro.CLAIMS}
+    assert list(tables["wtv_time/fig6/teams"]) == [("unstructured", "together", 4)]
+    assert list(tables["epv_time/fig8"]) == [("unstructured", "separate", 4)]
+    assert list(tables["wtv_time/fig6"]) == [("unstructured", "together", n) for n in (2, 4)]
+    schemes = tables["wtv_time/schemes"]
+    assert list(schemes)[:2] == [("unstructured", "kme", 2), ("unstructured", "kme", 4)]
+    assert set(schemes["unstructured", "kme", 4]) == {"together", "separate"}
+    both = tables["wtv_epv_time"]
+    assert both["WTV", "unstructured", "separate", 4] is tables["wtv_time/fig7/teams"][FIG7_4]
+    assert both["EPV", "unstructured", "separate", 4] is tables["epv_time/fig8"][FIG7_4]
 
 
-def test_zlot_superior_needs_significance_against_both() -> None:
-    zlot = {1: 1.0, 2: 1.2, 3: 0.9, 4: 1.1}
-    far = {1: 5.0, 2: 5.1, 3: 4.9, 4: 5.2}
-    assert repro.zlot_superior({"zlot-market": zlot, "nearest-frontier": far, "burgard": far})
-    assert not repro.zlot_superior(
-        {"zlot-market": zlot, "nearest-frontier": far, "burgard": {1: 1.0, 2: 1.3, 3: 0.8, 4: 1.0}}
+class _FakeStore:
+    """The two tables of a results store."""
+
+    def __init__(self, runs: pa.Table, curves: pa.Table) -> None:
+        self._tables = (runs.append_column("status", pa.array(["complete"] * len(runs))), curves)
+
+    def tables(self) -> tuple[pa.Table, pa.Table]:
+        return self._tables
+
+    def query(self, sql: str) -> pa.Table:
+        return self._tables[0].sort_by("run_id")
+
+
+def test_the_claims_in_the_papers_order() -> None:
+    ids = [claim.id for claim in repro.CLAIMS]
+    assert ids == [
+        "fewer_robots",
+        "fig6_lowest",
+        "fig6_final",
+        "separate_lower",
+        "fig7_lowest",
+        "fig8_lowest",
+        "six_combinations",
+        "zlot",
+    ]
+    zlot = repro.CLAIMS[-1]
+    assert (zlot.first, zlot.second, *zlot.seconds) == (
+        "zlot-market",
+        "nearest-frontier",
+        "burgard",
     )
 
 
-def test_paired_and_lowest() -> None:
-    by_seed = {"kme": {1: 1.0, 2: 2.0, 3: 3.0}, "burgard": {1: 2.0, 2: 4.0}}
-    difference = repro.paired(by_seed, "kme", "burgard")
-    assert difference.n == 2 and difference.mean == -1.5
-    assert repro.lowest({"kme": summarize_metric([]), "burgard": summarize_metric([2.0])}) == (
-        "burgard"
+# ------------------------------------------------------------- rule objects
+
+A_LOW = {s: 1.0 + s % 2 for s in range(4)}
+B_HIGH = {s: 5.0 + s % 2 for s in range(4)}
+
+
+def test_lowest_counts_cells_and_the_expected_exceptions() -> None:
+    values = {("m", 2): {"a": A_LOW, "b": B_HIGH}, ("m", 4): {"a": B_HIGH, "b": A_LOW}}
+    outcome, text = Lowest().judge(values, "a", ["b"], 0)
+    assert outcome == "partly"
+    assert text.startswith("holds in 1/2 cells; m/2r: `a` 2 vs best other `b` 6, paired -4 [")
+    assert text.endswith(" x")  # m/4r: b is the lowest
+    assert Lowest(unless=(4,)).judge(values, "a", ["b"], 0)[0] == "reproduced"
+    assert Lowest(unless=(2, 4)).judge(values, "a", ["b"], 0)[0] == "partly"
+    outcome, text = Lowest(brief=True).judge(values, "a", ["b"], 0)
+    assert text == "holds in 1/2 cells over 1 groups of the other keys; fails in m/4r (`b` lowest)"
+    assert Lowest().judge({("m", 2): {"b": A_LOW}}, "a", ["b"], 0)[0] == "not reproduced"
+    words = Lowest((2,)).describe("a", "b / c", "WTV")
+    assert words.startswith("mean WTV of `a` the lowest of it and `b / c`, cell by cell")
+    assert "(not the lowest where the last cell key is 2)" in words
+    assert words.endswith("no significance test")
+
+
+def test_trend_for_all_needs_every_arm() -> None:
+    falling = {("m", n): {"a": {1: 10.0 / n}, "b": {1: 20.0 / n}} for n in (2, 4, 8)}
+    assert TrendForAll("falls").judge(falling, "a", ["b"], 1) == (
+        "reproduced",
+        "m `a`: 5.0 -> 2.5 -> 1.2; m `b`: 10.0 -> 5.0 -> 2.5",
     )
-    assert repro.lowest({}) is None
+    bumpy = {**falling, ("m", 4): {"a": {1: 6.0}, "b": {1: 5.0}}}
+    assert TrendForAll("falls").judge(bumpy, "a", ["b"], 0)[0] == "partly"
+    assert TrendForAll("rises").judge(falling, "a", ["b"], 0)[0] == "not reproduced"
+    assert TrendForAll("falls").judge({}, "a", ["b"], 0) == ("not reproduced", "no cell")
+    assert (
+        TrendForAll("falls")
+        .describe("a", "b", "WTV")
+        .startswith("mean WTV of each of `a` / `b` falls with each step of the last cell key")
+    )
 
 
-def test_mean_curve_band_is_the_t_interval() -> None:
-    series = [(np.array([0.0]), np.array([v])) for v in (1.0, 2.0, 3.0)]
-    curve = repro.mean_curve(series, np.array([0.0, 5.0]))
-    expected = summarize_metric([1.0, 2.0, 3.0])
-    assert curve.mean.tolist() == [2.0, 2.0]
-    assert curve.low[0] == pytest.approx(expected.ci_low)
-    assert curve.high[1] == pytest.approx(expected.ci_high)
+def test_not_below_all_needs_significance_against_every_other_arm() -> None:
+    near = {0: 2.0, 1: 1.0, 2: 1.5, 3: 2.5}  # z - near: -1, 1, -0.5, -0.5
+    values = {("m", 2): {"z": A_LOW, "y": B_HIGH, "b": B_HIGH}}
+    assert NotBelowAll().judge(values, "z", ["y", "b"], 0) == (
+        "not reproduced",
+        "not significantly below all others in 0/1 cells; superior in m/2r",
+    )
+    values = {("m", 2): {"z": A_LOW, "y": B_HIGH, "b": near}}
+    assert NotBelowAll().judge(values, "z", ["y", "b"], 0) == (
+        "reproduced",
+        "not significantly below all others in 1/1 cells",
+    )
+    assert "95% CI of its EPV minus that of each of `y / b`" in NotBelowAll().describe(
+        "z", "y / b", "EPV"
+    )
+
+
+def test_unpaired_compares_means_only() -> None:
+    values = {
+        ("m", "a", 2): {"separate": {1: 1.0}, "together": {2: 3.0}},
+        ("m", "b", 2): {"separate": {1: 4.0}, "together": {1: 3.0}},
+    }
+    assert Unpaired("<").judge(values, "separate", ["together"], 0) == (
+        "partly",
+        "`separate` < `together` in 1/2 cells; fails in m/b/2r 4 vs 3",
+    )
+    assert "paired" not in Unpaired("<").judge(values, "separate", ["together"], 0)[1]
+    assert (
+        Unpaired("<")
+        .describe("separate", "together", "WTV")
+        .startswith(
+            "mean WTV of `separate` < that of `together`, cell by cell, the seeds not paired"
+        )
+    )
 
 
 # ------------------------------------------------------------------ full run
@@ -224,5 +342,5 @@ def test_full_reproduction(tmp_path: Path) -> None:
     assert main(["reproduce", "wu2011", "--out", str(tmp_path), "--no-progress"]) == 0
     text = _check_report(tmp_path, FULL_FIGURES)
     assert "**Quick run**" not in text
-    for name in repro.MAPS:
+    for name in repro.sweeps(False):
         assert (tmp_path / name / "runs").is_dir()
