@@ -17,6 +17,7 @@ from mrexplore.checks import check_strategy
 from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES, POSITION_BYTES, TARGET_BYTES
 from mrexplore.comm.messages import TARGET, Message
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
+from mrexplore.planning import frontier_mask
 from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.base import RobotView
 from mrexplore.strategies.registry import register
@@ -510,35 +511,34 @@ def test_a_bridge_neighbour_within_d2_does_not_constrain() -> None:
 
 
 def test_a_stretched_bridge_constrains_and_the_memory_keeps_it_after() -> None:
-    # Neighbour 0 at (2, 2), 28 away (> d2 = 27): achieve-connectivity; the only
-    # frontier in its comfort zone (6 < g < 27 from (2, 2)) is the left end (2, 5).
+    # Neighbour 0 at (2, 2), 28 away (> d2 = 27): achieve-connectivity. The comfort
+    # zone between the pair (within 27 of both, beyond d1 = 6 of 0) holds no frontier
+    # (col 5 is 3 from 0): §3.3.1, it moves towards 0, to mid-zone 16.5: (2, 18).
     strategy = VazquezNetwork(1, 2, comm_range=30.0)
     decision = strategy.decide(
-        view(corridor_belief(), (2, 30), inbox=(position_of(0, (2, 2)),), **PAIR)
+        view(closed_right_belief(), (2, 30), inbox=(position_of(0, (2, 2)),), **PAIR)
     )
     assert strategy.behaviour == ACHIEVE_CONNECTIVITY and strategy.stretched == {0}
-    assert decision.goal is not None and decision.goal[1] == 5
+    assert strategy.mode == "approach" and decision.goal == (2, 18)
+    assert not [m for m in decision.messages if m.type == TARGET]  # no destination
     # Back within d2: the pair reconnected; it keeps constraining for one range of
     # travel (memory_ranges = 1: 30 ticks).
     strategy.decide(
-        view(corridor_belief(), (2, 20), tick=3, inbox=(position_of(0, (2, 2), 2),), **PAIR)
+        view(closed_right_belief(), (2, 18), tick=3, inbox=(position_of(0, (2, 2), 2),), **PAIR)
     )
     assert strategy.stretched == frozenset() and strategy.remembered == {0: 3 + 30}
 
 
-def test_without_a_frontier_in_the_zone_the_robot_approaches_the_other() -> None:
-    # §3.3.1: "When no frontier cells are found the robot computes a path to the
-    # current position of the other robot". Neighbour 0 at (2, 58)? No: at (2, 2) is
-    # beyond d2 with the right end closed... the only frontier (col 5) lies within d1
-    # of (2, 2) = 3 cells, outside the zone: it moves towards (2, 2) to mid-zone,
-    # (d1 + d2) / 2 = 16.5, i.e. to (2, 18).
+def test_a_stretched_pair_searches_the_zone_between_the_two() -> None:
+    # A gap in the top wall at col 17 makes (1, 17) a frontier 15 from both robots:
+    # inside the zone between them, where robot 1 goes; the right end (2, 54), nearer
+    # to neither partner's zone, is not taken.
+    belief = corridor_belief()
+    belief[0, 17] = UNKNOWN
     strategy = VazquezNetwork(1, 2, comm_range=30.0)
-    decision = strategy.decide(
-        view(closed_right_belief(), (2, 32), inbox=(position_of(0, (2, 3)),), **PAIR)
-    )
-    assert strategy.mode == "approach"
-    assert decision.goal is not None and g(decision.goal, (2, 3)) <= 16.5**2
-    assert not [m for m in decision.messages if m.type == TARGET]
+    decision = strategy.decide(view(belief, (2, 32), inbox=(position_of(0, (2, 2)),), **PAIR))
+    assert strategy.behaviour == ACHIEVE_CONNECTIVITY
+    assert decision.goal == (1, 17) and strategy.mode == "explore"
 
 
 def test_a_frontier_given_up_for_a_constraint_is_left_to_the_others() -> None:
@@ -549,28 +549,43 @@ def test_a_frontier_given_up_for_a_constraint_is_left_to_the_others() -> None:
     first = strategy.decide(view(belief, (2, 30), inbox=(position_of(0, (2, 28)),), **PAIR))
     assert first.goal == (2, 54)
     strategy.decide(
-        view(belief, (2, 40), tick=2, inbox=(position_of(0, (2, 5), 1),), goal=first.goal,
-             path_remaining=14, **PAIR)  # fmt: skip
+        view(
+            belief,
+            (2, 40),
+            tick=2,
+            inbox=(position_of(0, (2, 5), 1),),
+            goal=first.goal,
+            path_remaining=14,
+            **PAIR,
+        )
     )
     assert (2, 54) in strategy.aborted and strategy.aborted[(2, 54)] == 2 + 120
 
 
 def test_utility_in_ticks_and_discounted_around_other_robots() -> None:
-    # U in ticks: cells / (2R + 1); R = 2: 4 cells = 0.8 ticks. Robot 0 reported at
-    # (2, 54) (no destination announced): the cells around it are not counted.
+    # U in ticks: cells / (2R + 1), R = 2: the right end's 4 unknown cells are worth
+    # 0.8 ticks against 24 ticks of travel; in cells, 4 against 24.
+    belief = corridor_belief()
+    frontier = frontier_mask(belief)
+    values = {}
+    for unit in ("ticks", "cells"):
+        found = VazquezNetwork(1, 2, utility_unit=unit)._evaluate(
+            view(belief, (2, 30)), frontier, []
+        )
+        assert found is not None
+        _dist, cells, value = found
+        values[unit] = dict(zip(map(tuple, cells.tolist()), value.tolist(), strict=True))
+    assert values["cells"][(2, 54)] == pytest.approx(4 - 24)
+    assert values["ticks"][(2, 54)] == pytest.approx(4 / 5 - 24)
+    # Robot 0 reported at (2, 54), no destination announced: "lessened if there are
+    # any robots near that destination" counts robots' cells too (discount_around=both).
+    v = view(belief, (2, 30), inbox=(position_of(0, (2, 54)),), **PAIR)
     strategy = VazquezNetwork(1, 2)
-    found = strategy._evaluate(
-        view(corridor_belief(), (2, 30), inbox=()),
-        corridor_belief() == FREE,
-        [],
-    )
-    assert found is None or True
-    v = view(corridor_belief(), (2, 30), inbox=(position_of(0, (2, 54)),), **PAIR)
     strategy._read_inbox(v)
     assert strategy._discount_centres(v) == [(2, 54)]
-    positions_only = VazquezNetwork(1, 2, discount_around="destinations")
-    positions_only._read_inbox(v)
-    assert positions_only._discount_centres(v) == []
+    earlier = VazquezNetwork(1, 2, discount_around="destinations")
+    earlier._read_inbox(v)
+    assert earlier._discount_centres(v) == []
 
 
 @pytest.mark.parametrize("constrain", ["stretched", "always"])
@@ -590,8 +605,18 @@ def test_no_livelock_under_any_combination_of_the_behaviour_rules(
     }
     for robots in (2, 3):
         record = simulate(
-            Scenario(map="office", size=(40, 40), map_seed=1, robots=robots, seed=1,
-                     sensor_range=3, comm_range=13, strategy="vazquez-network",
-                     params=params, coverage_threshold=1.0, max_ticks=4000)  # fmt: skip
+            Scenario(
+                map="office",
+                size=(40, 40),
+                map_seed=1,
+                robots=robots,
+                seed=1,
+                sensor_range=3,
+                comm_range=13,
+                strategy="vazquez-network",
+                params=params,
+                coverage_threshold=1.0,
+                max_ticks=4000,
+            )
         )
         assert record.status == "complete", (params, robots, record.status, record.ticks)

@@ -174,11 +174,12 @@ Interpretations (where the paper is silent or does not fit a grid world):
   the bridge connection" (``no_frontier_rule=approach``, default): towards the
   farthest constraining neighbour beyond ``d2``, stopping in mid-zone
   ``(d1 + d2) / 2``. When every constraining neighbour is within ``d2`` (only the
-  memory, or ``always``), the paper gives no rule; the robot with the lowest id
-  explores, its path cut to stay within ``d2`` of the others, and the others go
-  with it (to mid-zone from it). ``convoy`` (the earlier reading) orients each
-  constraint towards the lowest id of the sub-network (the *root*, by hop
-  distance, then id; :func:`orient`): the endpoint nearer the root *leads*. A
+  memory, or ``always``), the paper gives no rule; the robot nearer the root of the
+  sub-network (:func:`orient`) explores, its path cut to stay within ``d2`` of the
+  others, and the others go with it (to mid-zone from it). ``convoy`` (the earlier
+  reading) orients each constraint towards the lowest id of the sub-network (the
+  *root*, by hop distance, then id; :func:`orient`): the endpoint nearer the root
+  *leads*. A
   robot with no frontier in its zone
 
   - moves towards a leading neighbour that is farther than ``d2``
@@ -188,6 +189,12 @@ Interpretations (where the paper is silent or does not fit a grid world):
   - else (it leads all its constraints) heads for its best frontier anyway, but
     only as far as its path stays within ``d2`` of every follower; if it cannot
     move it holds until the next position update.
+* **Who turns back.** "The pair of robots that are out of the comfort zone in a bridge
+  connection are encouraged to return" (§3.3.1). When a pair becomes stretched, the
+  robot with the lower id keeps the frontier it is heading for and the other one
+  returns (searches the zone between them, or moves towards it). If both turned at
+  once, two robots whose frontiers lie farther apart than ``d3`` swapped frontiers
+  forever.
 * **Aborted frontiers.** A robot that gives up its frontier because a constraint
   starts (into achieve-connectivity, or a neighbour lost) or because a robot blocks
   its way (the simulator stopped it: avoid-collision's constraint) leaves that frontier,
@@ -928,6 +935,17 @@ class VazquezNetwork(Strategy):
             or ACHIEVE_CONNECTIVITY in (behaviour, self.behaviour)
         )
         self.behaviour = behaviour
+        if (
+            switched
+            and behaviour == ACHIEVE_CONNECTIVITY
+            and not self.lost
+            and self.mode in (EXPLORE, LEAD)
+            and self.stretched
+            and self.robot_id < min(self.stretched)
+        ):
+            # The lower id of a stretched pair keeps its frontier; the other returns to it
+            # (two robots turning at once swap frontiers forever when theirs lie apart).
+            switched = False
 
         if conflict or lost_changed or switched or self._needs_plan(view):
             # A plan given up to a constraint: the network's, or a robot in the way.
@@ -1028,9 +1046,13 @@ class VazquezNetwork(Strategy):
             # announced destination). Stretched, "the search of frontier cells is
             # constrained to the comfort zone between the pair": within d2 of the
             # robot's own cell too.
+            # A robot beyond d2 of a partner plans paths that never take it farther away.
             between = self.p["zone_between_pair"] and bool(self.stretched & partners)
-            centres = [*partner_cells, view.position] if between else partner_cells
-            region = within_distance(view.belief.shape, centres, d2)
+            region = within_distance(view.belief.shape, [view.position], d2) if between else None
+            for cell in partner_cells:
+                reach = max(d2, math.sqrt(g(view.position, cell)) + 0.5)
+                near = within_distance(view.belief.shape, [cell], reach)
+                region = near if region is None else region & near
             anchors = list(partner_cells)
             if self.p["zone_includes_targets"]:
                 anchors += [
@@ -1148,12 +1170,14 @@ class VazquezNetwork(Strategy):
             far = [(g(position, c), c) for c in self._cells(partners) if g(position, c) >= d2 * d2]
             if far:
                 return self._towards(view, APPROACH, max(far)[1], (d1 + d2) / 2, close)
-            # Partners within d2 (remembered, or every bridge): the lowest id explores,
-            # keeping the others within d2; the others go with it, to mid-zone.
-            lower = self._cells(r for r in partners if r < self.robot_id)
-            if lower:
-                return self._towards(view, FOLLOW, lower[0], (d1 + d2) / 2, close)
-            leaders, followers = [], sorted(partners)
+            # Partners within d2 (remembered, or every bridge): the end nearer the root
+            # of the sub-network explores, keeping the others within d2; they go with
+            # it, to mid-zone.
+            leaders, followers = orient(self.robot_id, partners, roles.hops)
+            ahead = self._cells_in_order(leaders)
+            if ahead:
+                return self._towards(view, FOLLOW, ahead[0], (d1 + d2) / 2, close)
+            leaders = []
         else:
             leaders, followers = orient(self.robot_id, partners, roles.hops)
         stretched = [
