@@ -111,6 +111,19 @@ def test_an_interpretation_changes_only_the_sweeps_of_its_strategies() -> None:
         interpret(mixed, reading)
 
 
+def test_an_interpretation_overrides_scenario_settings_and_their_grid_axes() -> None:
+    data = {
+        "sweep": {"name": "x", "seeds": [1]},
+        "fixed": {"map": "office", "size": "20x20", "strategy": "kme", "sharing": "broadcast"},
+        "grid": {"comm_range": [5, 10]},
+    }
+    sweep = sweep_from_dict(data)
+    reading = Interpretation("maps", "§", "r", scenario={"sharing": "full", "comm_range": 8})
+    changed = interpret(sweep, reading)
+    assert changed is not None and changed.name == "x@maps" and "set" not in changed.fixed
+    assert [(s.scenario.sharing, s.scenario.comm_range) for s in changed.runs()] == [("full", 8)]
+
+
 def test_interpretations_are_chosen_by_name() -> None:
     from mrexplore.experiments.reproduce import get_reproduction
 

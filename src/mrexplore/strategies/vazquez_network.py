@@ -930,21 +930,24 @@ class VazquezNetwork(Strategy):
             collision_distance=d1,
             disconnected=bool(self.lost),
         )
+        previous = self.behaviour
         switched = behaviour != self.behaviour and (
             self.p["replan_on_behaviour"] == "any"
             or ACHIEVE_CONNECTIVITY in (behaviour, self.behaviour)
         )
         self.behaviour = behaviour
+        pair = self.stretched | partners
         if (
             switched
-            and behaviour == ACHIEVE_CONNECTIVITY
+            and ACHIEVE_CONNECTIVITY in (behaviour, previous)
             and not self.lost
             and self.mode in (EXPLORE, LEAD)
-            and self.stretched
-            and self.robot_id < min(self.stretched)
+            and pair
+            and self.robot_id < min(pair)
         ):
-            # The lower id of a stretched pair keeps its frontier; the other returns to it
-            # (two robots turning at once swap frontiers forever when theirs lie apart).
+            # The lower id of a stretched pair keeps its frontier, as the pair stretches
+            # and as it comes back; the other returns to it (two robots turning at once
+            # swap frontiers forever when theirs lie apart).
             switched = False
 
         if conflict or lost_changed or switched or self._needs_plan(view):

@@ -88,9 +88,10 @@ def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Inte
 def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
     """``sweep`` under ``interpretation``, or ``None`` when it changes none of its runs.
 
-    Its ``set`` overrides go into the fixed strategy parameters (replacing a grid axis
-    of the same parameter). A sweep whose strategies the interpretation only partly
-    applies to is an error of the reproduction's declaration.
+    Its ``set`` overrides go into the fixed strategy parameters and its ``scenario``
+    overrides into the fixed settings (each replacing a grid axis of the same name). A
+    sweep whose strategies the interpretation only partly applies to is an error of the
+    reproduction's declaration.
     """
     fixed_strategy = sweep.fixed.get("strategy")
     strategies = [fixed_strategy] if fixed_strategy else list(sweep.grid.get("strategy", []))
@@ -102,12 +103,14 @@ def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
             f"interpretation {interpretation.name} applies to some strategies of sweep "
             f"{sweep.name} only; split the sweep by strategy"
         )
-    grid: dict[str, Any] = dict(sweep.grid)
+    grid: dict[str, Any] = {k: v for k, v in sweep.grid.items() if k not in interpretation.scenario}
     if "set" in grid:
         grid["set"] = {k: v for k, v in grid["set"].items() if k not in interpretation.set}
         if not grid["set"]:
             del grid["set"]
-    fixed = {**sweep.fixed, "set": {**sweep.fixed.get("set", {}), **interpretation.set}}
+    fixed = {**sweep.fixed, **interpretation.scenario}
+    if interpretation.set:
+        fixed["set"] = {**sweep.fixed.get("set", {}), **interpretation.set}
     return replace(sweep, fixed=fixed, grid=grid, name=f"{sweep.name}@{interpretation.name}")
 
 

@@ -1697,9 +1697,10 @@ class Claim:
 class Interpretation:
     """A named alternative reading of a sentence of the paper, as run overrides.
 
-    ``set`` overrides strategy parameters of the runs whose strategy is in
-    ``strategies`` (every run when empty); the experiments it does not change are
-    reused from the default reading.
+    ``set`` overrides strategy parameters and ``scenario`` scenario settings (for
+    instance ``sharing``) of the runs whose strategy is in ``strategies`` (every run
+    when empty); the experiments it does not change are reused from the default
+    reading.
     """
 
     name: str
@@ -1709,6 +1710,7 @@ class Interpretation:
     """How this interpretation reads it, against the default reading."""
     set: Mapping[str, Any] = field(default_factory=dict)
     strategies: tuple[str, ...] = ()
+    scenario: Mapping[str, Any] = field(default_factory=dict)
 
     def applies_to(self, strategy: str) -> bool:
         return not self.strategies or strategy in self.strategies

@@ -86,6 +86,13 @@ CURVES_EVERY = 10
 T100 = "T100 (ticks)"
 FIXED = {"map": "office", "map_seed": MAP_SEED, "sensor_range": SENSOR_RANGE_CELLS}
 FIXED.update({"start": "together", "coverage_threshold": 1.0})
+#: §4 "The information arrives by multi hops to all the members of the team": new cells
+#: relayed through the sub-network, for both methods; runs go on until one robot holds
+#: the whole map, so both completion times are measured.
+FIXED.update({"sharing": "broadcast", "complete_when": "robot"})
+#: Fig. 2 "If the robot arrives at the current frontier the exploration algorithm its
+#: executed"; Yamauchi's robots head for a frontier until they reach it: both methods.
+FIXED["set"] = {"replan_on_target_explored": False}
 
 
 def _rows(text: str) -> list[list[str]]:
@@ -115,11 +122,14 @@ trials | {PAPER_TRIALS} per team size | full: seeds 1-{len(FULL_SEEDS)} (Yamauch
 start | relative positions to a known location | adjacent cells around a free cell of the seed
 localisation | known within +-{PAPER_POSITION_ERROR:.0%} | perfect (no position noise)
 information sharing | sensor data every {PAPER_BROADCAST_PERIOD_S} s, multi-hop to the team |
-  `full` sharing (new cells to the sub-network each tick); positions every 2 ticks
-Yamauchi | closest frontier, no coordination, common map | nearest-frontier; maps merge in a
-  sub-network only (same range and sharing as vazquez-network)
+  `broadcast` sharing (new cells relayed to the sub-network each tick, nothing exchanged when
+  sub-networks join); positions every 2 ticks
+Yamauchi | closest frontier, no coordination, common map | nearest-frontier with the same
+  range and sharing; both re-plan on arrival only
 time | seconds (Webots) | ticks; a robot moves 1 cell (5 cm) per tick
-time to complete | time to a complete map | T100, the team knows every explorable cell
+time to complete | time to a complete map | T100, the team's union knows every explorable
+  cell; and T100 of one robot, the first tick one robot's own map holds them all (runs go on
+  until then)
 run limit | - | max_ticks {MAPS["small"].max_ticks} (small), {MAPS["large"].max_ticks} (large),
   {QUICK_MAP.max_ticks} (quick); a run that stops early counts with its last tick (a lower bound)
 """
@@ -180,6 +190,7 @@ METRICS: dict[str, render.Metric] = {
     "time": render.time_to("T100"),
     "complete": render.reached("T100"),
     "T99": lambda r: math.nan if r.get("T99") is None else float(r["T99"]),
+    "one_map": render.time_to("T100_first_robot"),
     "connected": lambda r: float(r["connected_share"]),
 }
 
@@ -239,6 +250,8 @@ incremental | §1 | the approach does incrementally better (relative to Yamauchi
   teams | the approach performs incrementally better with larger teams of robots
 network | abstract, §3 | the robots keep one mobile network while exploring | The robots are
   encouraged to move together forming a mobile network
+faster_one_map | Figs. 6-11 | the same, timed until one robot holds the whole map | The
+  comparision is based on the time required to generate a complete map of the environment
 """
 SHORTEST, LONGEST = (f"{VAZQUEZ}, {r:g} m" for r in PAPER_COMM_RANGES_M[::2])
 T99_ARMS = (f"{VAZQUEZ} T99", f"{YAMAUCHI} T99")
@@ -253,8 +266,10 @@ _RULES: dict[str, tuple[Rule, str, str, str]] = {
     "range_gap": (claims.GapNarrows(), "ranges", SHORTEST, LONGEST),
     "incremental": (claims.RatioFalls(), "time", VAZQUEZ, YAMAUCHI),
     "network": (claims.AtLeast(0.95, 0.8), "connected", VAZQUEZ, YAMAUCHI),
+    "faster_one_map": (claims.Share("<", 0.9, 1 / 3), "one_map", VAZQUEZ, YAMAUCHI),
 }
 _LABELS = {"time": (T100, 0), "ranges": (T100, 0), "connected": ("share in one sub-network", 2)}
+_LABELS["one_map"] = ("T100 of one robot (ticks)", 0)
 CLAIMS = tuple(
     Claim(name, where, ours, said, metric, label, a, b, rule, digits)
     for name, where, ours, said in _rows(_CLAIM_WORDS)
@@ -262,16 +277,39 @@ CLAIMS = tuple(
     for label, digits in [_LABELS[metric]]
 )
 
-#: Readings of sentences the paper leaves open, as strategy parameters.
+_ARRIVAL = (
+    '§3.3 "When P(x, y) = f(x, y) ... the robot had arrived to the frontier. In this case the '
+    'exploration algorithm its executed"; §2.1 (Yamauchi) "Each robot heads for its closest '
+    'frontier"'
+)
+_BRIDGE = (
+    '§3.1 "A pair of robots impose mutual motion constraints only if they constitute a '
+    "solitary bridge connection according to the current network topology and if the signal "
+    'strength among the pair of robots falls below a threshold"'
+)
+_NONE_IN_ZONE = (
+    '§3.3.1 "When no frontier cells are found the robot computes a path to the current '
+    'position of the other robot in the bridge connection"'
+)
+_LESSENED = (
+    '§3.2 "The utility expected by a robot considering moving to a particular frontier is '
+    'lessened if there are any robots near that destination"'
+)
+
+
+def _reading(name: str, sentence: str, reading: str, **params: Any) -> Interpretation:
+    """A reading of one of vazquez-network's rules (its page lists each with its default)."""
+    ((key, value),) = params.items()
+    return Interpretation(name, sentence, f"{reading} (`{key}={value}`)", params, (VAZQUEZ,))
+
+
 INTERPRETATIONS = (
     Interpretation(
-        "both-replan-on-arrival",
-        '§3.3 "When P(x, y) = f(x, y) ... the robot had arrived to the frontier. In this case '
-        'the exploration algorithm its executed"; §2.1 (Yamauchi) "Each robot heads for its '
-        'closest frontier"',
-        "both methods choose a new frontier on arrival only, not as soon as their frontier is "
-        "seen from afar (`replan_on_target_explored=false` for both; default true for both)",
-        {"replan_on_target_explored": False},
+        "both-replan-when-explored",
+        _ARRIVAL,
+        "both methods also choose a new frontier as soon as theirs is seen from afar "
+        "(`replan_on_target_explored=true` for both; default false for both)",
+        {"replan_on_target_explored": True},
         (VAZQUEZ, YAMAUCHI),
     ),
     Interpretation(
@@ -281,6 +319,58 @@ INTERPRETATIONS = (
         "broadcasts its position every tick (`position_period=1`; default 2)",
         {"position_period": 1},
         (VAZQUEZ,),
+    ),
+    Interpretation(
+        "maps-on-reconnection",
+        '§4 "The information arrives by multi hops to all the members of the team"',
+        "robots also exchange their whole maps when sub-networks join (`full` sharing, for "
+        "both methods), as in Yamauchi's common map",
+        scenario={"sharing": "full"},
+    ),
+    _reading(
+        "every-bridge-constrains",
+        _BRIDGE,
+        "every bridge neighbour constrains, stretched or not",
+        constrain_bridges="always",
+    ),
+    _reading(
+        "convoy",
+        _NONE_IN_ZONE,
+        "the end nearer the root leads and the others follow it, a convoy",
+        no_frontier_rule="convoy",
+    ),
+    _reading(
+        "zone-around-partner",
+        '§3.3.1 "the search of frontier cells is constrained to the comfort zone between the '
+        'pair of robots"',
+        "a stretched robot searches around the other robot only, not between the two",
+        zone_between_pair=False,
+    ),
+    _reading(
+        "destination-zone",
+        _BRIDGE,
+        "the destination must also lie in the comfort zone of the partner's destination "
+        "(not in the paper)",
+        zone_includes_targets=True,
+    ),
+    _reading(
+        "discount-destinations",
+        _LESSENED,
+        "only other robots' announced destinations lessen the utility (Simmons)",
+        discount_around="destinations",
+    ),
+    _reading(
+        "utility-in-cells",
+        "§3.2, after Simmons: information gain minus cost",
+        "one unknown cell is worth one cell of travel, U in cells rather than ticks",
+        utility_unit="cells",
+    ),
+    _reading(
+        "replan-on-connectivity-change",
+        'Fig. 2 "When a change in behaviour is detected the robot will reevaluate its '
+        'current plan"',
+        "only a change into or out of achieve-connectivity makes it re-plan",
+        replan_on_behaviour="connectivity",
     ),
 )
 
