@@ -59,6 +59,22 @@ def sweeps_of(source: str, experiments: Iterable[Experiment]) -> dict[str, Sweep
     return {e.name: e.sweep(source) for e in experiments}
 
 
+def sweeps_for(
+    source: str, experiments: Callable[[bool], Iterable[Experiment]]
+) -> Callable[[bool], dict[str, Sweep]]:
+    """A reproduction's ``sweeps``: ``quick -> experiment name -> sweep``."""
+    return lambda quick: sweeps_of(source, experiments(quick))
+
+
+def text_rows(text: str) -> list[list[str]]:
+    """The rows of an ``a | b | c`` text table; an indented line continues its row.
+
+    >>> text_rows("a | b\\n  c | d\\ne | f")
+    [['a', 'b c', 'd'], ['e', 'f']]
+    """
+    return [row.split(" | ") for row in text.replace("\n  ", " ").strip().splitlines()]
+
+
 # ----------------------------------------------------------------- per-run values
 
 
@@ -77,6 +93,15 @@ def number(row: Row, key: str) -> float:
 def column(key: str) -> Metric:
     """The metric that reads one column (missing counts as 0)."""
     return lambda row: number(row, key)
+
+
+def measured(key: str) -> Metric:
+    """A column, nan where a run has none (a time never reached): missing, not 0.
+
+    >>> measured("T100")({"T100": 7}), measured("T100")({"T100": None})
+    (7.0, nan)
+    """
+    return lambda row: math.nan if row.get(key) is None else float(row[key])
 
 
 def bytes_of(types: Iterable[str], kind: str = "bytes") -> Metric:
@@ -105,6 +130,17 @@ def time_to(key: str) -> Metric:
 
 def reached(key: str) -> Metric:
     return lambda row: float(row.get(key) is not None)
+
+
+def unfinished(reached: Values) -> dict[tuple[CellKey, str], str]:
+    """:func:`arm_table` flags: ``*`` where a run of the arm did not get there (0 in
+    ``reached``)."""
+    return {
+        (c, a): "*"
+        for c, by_arm in reached.items()
+        for a, x in by_arm.items()
+        if min(x.values()) < 1
+    }
 
 
 def rows_of(stores: Mapping[str, Store]) -> tuple[list[dict[str, Any]], dict[str, int]]:
@@ -252,9 +288,12 @@ def lines_figure(
     title: str,
     colours: Mapping[str, str],
     log: bool = False,
+    logx: bool = False,
 ) -> Path | None:
     """One subplot per panel: mean against x, one line per arm, 95% CI bars, the
-    legend right of the panels. ``panels``: ``panel -> arm -> x -> summary``."""
+    legend right of the panels; ``log`` / ``logx``: a logarithmic y / x axis. With one
+    panel the title stands above its axes, clear of the legend (the panel's name, if
+    any, after it). ``panels``: ``panel -> arm -> x -> summary``."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -273,7 +312,9 @@ def lines_figure(
             if not kept:
                 continue
             xs_all |= {x for x, _ in kept}
-            xs = np.array([x for x, _ in kept], dtype=np.float64) + (i - len(arms) / 2) * 0.06
+            xs = np.array([x for x, _ in kept], dtype=np.float64)
+            dodge = (i - len(arms) / 2) * 0.06  # arms side by side; on a log axis, in ratio
+            xs = xs * 10 ** (dodge / 3) if logx else xs + dodge
             means = np.array([s.mean for _, s in kept])
             below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
             above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
@@ -293,15 +334,40 @@ def lines_figure(
         if log:
             ax.set_yscale("log")
         ax.set_xticks(sorted(xs_all))
+        if logx:
+            ax.set_xscale("log")
+            ax.set_xticks(sorted(xs_all), [f"{x:g}" for x in sorted(xs_all)], minor=False)
+            ax.minorticks_off()
         ax.set_xlabel(xlabel, fontsize=8)
         ax.set_title(panel, fontsize=9)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
     figure_legend_outside(fig, axes, fontsize=7)
     axes[0].set_ylabel(ylabel, fontsize=8)
-    fig.suptitle(f"{title}\n(mean over seeds, error bars: 95% CI)", fontsize=10)
+    panel = next(iter(panels))
+    one = len(panels) == 1 and panel not in ("", title)  # one panel: its name joins the title
+    heading = f"{title}: {panel}" if one else title
+    heading += "\n(mean over seeds, error bars: 95% CI)"
+    if len(panels) > 1:
+        fig.suptitle(heading, fontsize=10)
+    else:
+        axes[0].set_title(heading, fontsize=9)
     fig.savefig(path, format="png")
     return path
+
+
+def figure(
+    out: Path,
+    name: str,
+    panels: Mapping[str, Mapping[str, Mapping[Any, Summary]]],
+    *,
+    title: str,
+    **axes: Any,
+) -> Lines:
+    """:func:`lines_figure` into ``out/name`` and the report's link to it (nothing when
+    there is nothing to draw)."""
+    drawn = lines_figure(panels, Path(out) / name, title=title, **axes)
+    return [f"![{title}]({name})", ""] if drawn else []
 
 
 def panels_of(
