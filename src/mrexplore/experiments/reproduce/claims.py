@@ -1,28 +1,20 @@
 """Claims of a paper as data: the sentence, the comparison, the rule that decides it.
 
-A reproduction declares each claim it tests as a :class:`Claim`: where in the paper
-it stands, the paper's sentence, the metric, the two arms compared, the cells
-(for instance map x team size) it is judged in, and a rule object. The rule both
-computes the verdict and writes the words that describe it, so the text of a
-report and the code that decides cannot drift apart.
+A reproduction declares each claim it tests as a :class:`Claim`: where in the paper it
+stands, the paper's sentence, the metric, the arms compared, the cells (for instance map x
+team size) it is judged in, and a rule object that both computes the verdict and writes
+the words that describe it, so the text of a report and the code that decides cannot
+drift apart. Every rule is a :class:`Rule`: it grades items (cells, curves) *holds*,
+*weak* or *fails*, and :class:`Needs` counts the grades into the outcome. :class:`Cells`
+rules compare two arms cell by cell (:class:`Means`, :class:`Paired`, :class:`Ratio`);
+:class:`Along` rules follow curves (:class:`Trend`, :class:`FallsFasterBelow`,
+:class:`FallsLess`, :class:`RisesAbove`); a few stand alone.
 
-Every rule is a :class:`Rule`: it grades items (cells, curves) ``holds``, ``weak`` or
-``fails`` and :class:`Needs` turns the grades into an outcome. :class:`Cells` rules
-compare two arms cell by cell (:class:`Means`, :class:`Paired`, :class:`Ratio`),
-:class:`Along` rules follow a curve along the last cell key, the cells or a
-:func:`family` of arms (:class:`Trend`, :class:`FallsFasterBelow`, :class:`FallsLess`,
-:class:`RisesAbove`); a few stand alone (:class:`Level`, :class:`NotBelowAll`,
-:class:`SignsAsPaper`, :class:`AtEnds`, :class:`NearPaper`).
-
-An :class:`Interpretation` is a documented alternative reading of an ambiguous
-sentence of the paper, given as parameter overrides of the runs it changes. The
-claims are judged under the default reading and under each interpretation;
-:func:`robustness_section` shows, per claim, whether the verdict is ``robust``
-(the same under every reading) or ``fragile`` (and under which readings it
-changes).
-
-Values are given to the rules as ``cell -> arm -> seed -> value``
-(:data:`Values`); a rule never looks at anything else.
+An :class:`Interpretation` is a documented alternative reading of an ambiguous sentence
+of the paper, given as parameter overrides of the runs it changes. The claims are judged
+under the default reading and under each interpretation; :func:`robustness_section` shows,
+per claim, whether the verdict is ``robust`` or ``fragile``. Values are given to the rules
+as ``cell -> arm -> seed -> value`` (:data:`Values`); a rule never looks at anything else.
 """
 
 from __future__ import annotations
@@ -38,7 +30,8 @@ from mrexplore.experiments.stats import Summary, summarize_metric
 
 CellKey = tuple[Any, ...]
 """A cell a claim is judged in, e.g. ``(map, robots)``."""
-Arms = Mapping[str, Mapping[int, float]]
+BySeed = Mapping[int, float]
+Arms = Mapping[str, BySeed]
 """One cell of :data:`Values`: ``arm -> seed -> value``."""
 Values = Mapping[CellKey, Arms]
 """``cell -> arm -> seed -> value``."""
@@ -53,9 +46,6 @@ _RELATIONS: dict[str, Callable[[float, float], bool]] = {
     ">": operator.gt,
     ">=": operator.ge,
 }
-
-
-# ---------------------------------------------------------------------- numbers
 
 
 def fmt(value: float | None, digits: int = 0) -> str:
@@ -80,7 +70,7 @@ def paired(by_seed: Arms, a: str, b: str) -> Summary:
     return summarize_metric([first[s] - second[s] for s in sorted(set(first) & set(second))])
 
 
-def _mean(by_seed: Mapping[int, float]) -> float:
+def _mean(by_seed: BySeed) -> float:
     return summarize_metric(list(by_seed.values())).mean
 
 
@@ -93,9 +83,8 @@ def _diff(d: Summary, digits: int) -> str:
 
 
 def _cell_name(cell: CellKey) -> str:
-    return "/".join(str(part) for part in cell[:-1]) + (
-        f"/{cell[-1]}r" if len(cell) > 1 else str(cell[0])
-    )
+    last = f"/{cell[-1]}r" if len(cell) > 1 else str(cell[0])
+    return "/".join(str(part) for part in cell[:-1]) + last
 
 
 def series_text(series: Mapping[Any, float], digits: int = 0) -> str:
@@ -104,8 +93,8 @@ def series_text(series: Mapping[Any, float], digits: int = 0) -> str:
     >>> series_text({4: 310.0, 8.0: 290.5}, 1)
     '4:310.0, 8:290.5'
     """
-    x = lambda v: f"{v:g}" if isinstance(v, int | float) else str(v)  # noqa: E731
-    return ", ".join(f"{x(k)}:{fmt(m, digits)}" for k, m in series.items())
+    name = lambda x: f"{x:g}" if isinstance(x, int | float) else str(x)  # noqa: E731
+    return ", ".join(f"{name(x)}:{fmt(m, digits)}" for x, m in series.items())
 
 
 def lowest_arm(arms: Arms, among: Sequence[str]) -> str | None:
@@ -169,87 +158,66 @@ def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
 
 # ------------------------------------------------------------ grades and outcomes
 
-Condition = tuple[float | None, float | None]
-"""``(share of the items that hold, share that hold at least weakly)``; ``None``: no
-condition, ``0``: at least one item."""
 
-
-def _quantity(share: float, item: str) -> str:
-    words = {
-        1.0: f"every {item}",
-        0.5: f"at least half of the {item}s",
-        0.0: f"at least one {item}",
-    }
-    return words.get(share, f"at least {share:.0%} of the {item}s")
+def _share_words(share: float, item: str) -> str:
+    words = {1.0: f"every {item}", 0.5: f"at least half of the {item}s"}
+    return words.get(share, f"at least {share:.0%} of the {item}s" if share else f"one {item}")
 
 
 @dataclass(frozen=True)
 class Needs:
-    """How many judged items must hold for each outcome: any of the conditions.
+    """The shares of the judged items that must hold, and hold at least weakly: all that
+    are given for ``reproduced``, one of them for ``partly``; 0 means at least one item.
 
     >>> Needs().outcome([HOLDS, FAILS]), Needs().outcome([HOLDS, FAILS, FAILS]), Needs().outcome([])
     ('partly', 'not reproduced', 'not reproduced')
-    >>> print(SOME_WEAK.words("it holds", "it holds weakly", "cell"))
-    reproduced if it holds in every cell, partly if it holds weakly in at least one cell, not \
-reproduced otherwise
+    >>> SOME_WEAK.words("it holds", "it holds weakly", "cell")
+    'reproduced if it holds in every cell, partly if it holds weakly in one cell'
     """
 
-    reproduced: tuple[Condition, ...] = ((1.0, None),)
-    partly: tuple[Condition, ...] = ((0.5, None),)
-
-    @classmethod
-    def shares(cls, reproduced: float, partly: float) -> Needs:
-        """Shares of the items that hold: at least ``reproduced``, at least ``partly``."""
-        return cls(((reproduced, None),), ((partly, None),))
+    holds: float | None = 1.0
+    weakly: float | None = None
+    partly_holds: float | None = 0.5
+    partly_weakly: float | None = None
 
     def outcome(self, grades: Sequence[int]) -> Outcome:
-        if _met(self.reproduced, grades):
+        counts = (grades.count(HOLDS), len(grades) - grades.count(FAILS))
+
+        def met(share: float | None, count: int) -> bool:
+            return share is not None and count > 0 and count / len(grades) >= share
+
+        if all(t is None or met(t, c) for t, c in zip((self.holds, self.weakly), counts)):
             return "reproduced"
-        return "partly" if _met(self.partly, grades) else "not reproduced"
+        partly = zip((self.partly_holds, self.partly_weakly), counts, strict=True)
+        return "partly" if any(met(t, c) for t, c in partly) else "not reproduced"
 
     def words(self, strong: str, weak: str, item: str) -> str:
-        def said(conditions: tuple[Condition, ...]) -> str:
-            return " or ".join(
-                " and ".join(
-                    f"{phrase} in {_quantity(share, item)}"
-                    for share, phrase in zip(condition, (strong, weak), strict=True)
-                    if share is not None
-                )
-                for condition in conditions
-            )
+        def said(pair: tuple[float | None, float | None], joint: str) -> str:
+            parts = zip(pair, (strong, weak), strict=True)
+            return joint.join(f"{w} in {_share_words(t, item)}" for t, w in parts if t is not None)
 
-        reproduced, partly = said(self.reproduced), said(self.partly)
-        return f"reproduced if {reproduced}, partly if {partly}, not reproduced otherwise"
-
-
-def _met(conditions: tuple[Condition, ...], grades: Sequence[int]) -> bool:
-    counts = (sum(g == HOLDS for g in grades), sum(g >= WEAK for g in grades))
-    return any(
-        all(
-            share is None or bool(count and count / len(grades) >= share)
-            for share, count in zip(condition, counts, strict=True)
-        )
-        for condition in conditions
-    )
+        reproduced = said((self.holds, self.weakly), " and ")
+        partly = said((self.partly_holds, self.partly_weakly), " or ")
+        return f"reproduced if {reproduced}, partly if {partly}"
 
 
 EVERY_HALF = Needs()
 """Reproduced if every item holds, partly if at least half do."""
-EVERY_WEAK = Needs(partly=((None, 1.0),))
+EVERY_WEAK = Needs(partly_holds=None, partly_weakly=1.0)
 """Reproduced if every item holds, partly if every one holds at least weakly."""
-SOME_WEAK = Needs(partly=((None, 0.0),))
+SOME_WEAK = Needs(partly_holds=None, partly_weakly=0.0)
 """Reproduced if every item holds, partly if one holds at least weakly."""
 
 
 @dataclass(frozen=True)
 class Check:
-    """One judged item: its name, its numbers, its grade (``None``: shown, not judged)."""
+    """One judged item: its name, its numbers, its grade (``None``: shown, not judged), the
+    comparison it belongs to (``block``) when a rule makes several."""
 
     name: str
     text: str
     grade: int | None
     block: str = ""
-    """The comparison it belongs to (``vs `b```), when a rule makes several."""
     data: Any = None
 
     def line(self) -> str:
@@ -258,8 +226,8 @@ class Check:
 
 @dataclass(frozen=True)
 class Ask:
-    """What a rule is asked to judge: the values, the arm first and the arms it is
-    compared with, the decimals of the numbers shown."""
+    """What a rule judges: the values, the first arm and those it is compared with, the
+    decimals of the numbers shown."""
 
     values: Values
     first: str
@@ -272,24 +240,21 @@ class Ask:
 
 @dataclass(frozen=True, kw_only=True)
 class Rule:
-    """Decides a claim from its values and says how, in words: :meth:`checks` grades the
-    items, :attr:`needs` counts the grades into the outcome, and :meth:`describe` is
-    built from :meth:`what` and :meth:`conditions`, the words of the rule's own fields.
-    The judge loop, the count and the evidence are written here once."""
+    """Decides a claim from its values and says how: :meth:`checks` grades the items,
+    :attr:`needs` counts the grades, :meth:`describe` is made of :meth:`what` and
+    :meth:`conditions`, the words of the rule's own fields. ``shown``: arms whose numbers
+    are shown beside, not judged; ``brief``: the evidence names only the items that do not
+    hold; ``also``: another pair of arms (another measure of the runs) whose count is cited."""
 
     needs: Needs | None = None
-    """How many items must hold; ``None``: the rule's :attr:`usual`."""
     shown: tuple[str, ...] = ()
-    """Arms whose numbers are shown beside, not judged."""
     brief: bool = False
-    """Evidence: the count and the items that do not hold only."""
     also: tuple[str, str] | None = None
-    """Another pair of arms (another measure of the same runs) whose count is cited."""
     usual: ClassVar[Needs] = EVERY_HALF
+    """The needs when ``needs`` is ``None``."""
     item: ClassVar[str] = "cell"
 
     def what(self, first: str, second: str, metric: str) -> str:
-        """What is compared, in words."""
         raise NotImplementedError
 
     def conditions(self) -> tuple[str, str]:
@@ -301,9 +266,9 @@ class Rule:
 
     def describe(self, first: str, second: str, metric: str) -> str:
         strong, weak = self.conditions()
-        shown = ", ".join(f"`{a}`" for a in self.shown)
-        words = self.what(first, second, metric) + (
-            f" ({shown} shown, not judged)" if shown else ""
+        words = self.what(first, second, metric)
+        words += f" ({', '.join(f'`{a}`' for a in self.shown)} shown, not judged)" * bool(
+            self.shown
         )
         if self.also:
             words += f" (also counted on `{self.also[0]}` vs `{self.also[1]}`)"
@@ -311,32 +276,28 @@ class Rule:
 
     def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
         checks = list(self.checks(Ask(values, first, tuple(seconds), digits)))
-        text = self.evidence(checks)
-        if self.also:
-            more = self.checks(Ask(values, self.also[0], self.also[1:], digits))
-            text += f"; `{self.also[0]}` vs `{self.also[1]}`: {self.tally(list(more))}"
-        grades = [c.grade for c in checks if c.grade is not None]
-        return (self.needs or self.usual).outcome(grades), text
-
-    def evidence(self, checks: Sequence[Check]) -> str:
-        """The count and the items; a block per comparison when there are several."""
         blocks: dict[str, list[Check]] = {}
         for check in checks:
             blocks.setdefault(check.block, []).append(check)
-        if len(blocks) < 2:
-            return self._block(checks)
-        return " | ".join(f"{name}: {self._block(part)}" for name, part in blocks.items())
+        text = " | ".join(
+            f"{name}: {self._block(part)}" if len(blocks) > 1 else self._block(part)
+            for name, part in blocks.items()
+        )
+        if self.also:
+            more = list(self.checks(Ask(values, self.also[0], self.also[1:], digits)))
+            text += f"; `{self.also[0]}` vs `{self.also[1]}`: {self.tally(more)}"
+        grades = [c.grade for c in checks if c.grade is not None]
+        return (self.needs or self.usual).outcome(grades), text or self.tally([])
 
     def _block(self, checks: Sequence[Check]) -> str:
         judged = [c for c in checks if c.grade is not None]
         lines = [c.line() for c in checks if not (self.brief and c.grade == HOLDS)]
         if self.brief:
             lines = [f"fails in {', '.join(lines)}"] if lines else []
-        head = [self.tally(judged), *self.totals(judged)] if judged or not checks else []
-        return "; ".join(head + lines)
+        return "; ".join(([self.tally(judged), *self.totals(judged)] if judged else []) + lines)
 
     def tally(self, checks: Sequence[Check]) -> str:
-        """``holds in 3/4 cells`` (and how many hold at least weakly, if the rule grades so)."""
+        """``holds in 3/4 cells``, and how many hold at least weakly if the rule grades so."""
         grades = [c.grade for c in checks]
         text = f"holds in {grades.count(HOLDS)}/{len(grades)} {self.item}s"
         if not self.conditions()[1]:
@@ -348,7 +309,7 @@ class Rule:
         return []
 
 
-# ----------------------------------------------------------- cell by cell
+# ------------------------------------------------------------------ cell by cell
 
 
 @dataclass(frozen=True)
@@ -362,20 +323,19 @@ class Pair:
 
 @dataclass(frozen=True, kw_only=True)
 class Cells(Rule):
-    """Base of the rules that compare ``first`` with each arm of ``seconds`` (or with the
-    lowest of them, ``best``) cell by cell; cells without both arms are left out."""
+    """Base of the rules that compare ``first`` with each arm of ``seconds`` (``best``: with
+    the one with the lowest mean) cell by cell; cells without both arms are left out.
+    ``seeds``: ``all``, each arm over its seeds and the paired difference over those both
+    ran; ``common``, both over the seeds both ran (at least ``min_seeds``); ``unpaired``,
+    each over its own, no difference. In cells whose last key is in ``except_at`` the claim
+    is the opposite. ``members``: ``first`` names a :func:`family`, compare each member
+    (``each``) or its highest level (``top``)."""
 
     seeds: Literal["all", "common", "unpaired"] = "all"
-    """``all``: each arm over its seeds, the paired difference over those both ran;
-    ``common``: both over the seeds both ran (at least ``min_seeds``); ``unpaired``: each
-    over its own seeds, no difference (the same seed is not the same set-up in both)."""
     min_seeds: int = 1
     best: bool = False
-    """Compare with the arm of ``seconds`` with the lowest mean in each cell."""
     except_at: tuple[Any, ...] = ()
-    """Cells whose last key is here: the claim is the opposite (holds and fails swap)."""
     members: Literal["", "each", "top"] = ""
-    """``first`` names a :func:`family`: compare each member, or its highest level."""
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
         raise NotImplementedError
@@ -383,25 +343,23 @@ class Cells(Rule):
     def checks(self, ask: Ask) -> Iterator[Check]:
         for second in [""] if self.best else [*ask.seconds, *self.shown]:
             for cell, arms in ask.values.items():
-                other = second or lowest_arm(arms, ask.seconds)
+                other = second or lowest_arm(arms, ask.seconds) or ""
                 for arm in self._members(arms, ask.first):
                     pair = self._pair(arms, arm, other)
-                    if pair is None or other is None:
+                    if pair is None:
                         continue
                     grade, text = self.grade(pair, cell, ask)
                     grade = HOLDS + FAILS - grade if cell[-1] in self.except_at else grade
-                    name = _cell_name(cell) + f" {arm}" * bool(self.members)
+                    name = _cell_name(cell) + (f" {arm}" if self.members else "")
                     name += "" if second else f" (best other `{other}`)"
                     judged = None if second in self.shown else grade
-                    yield Check(name, text, judged, f"vs `{second}`" * bool(second), pair)
+                    yield Check(name, text, judged, f"vs `{second}`" if second else "", pair)
 
     def _members(self, arms: Arms, first: str) -> list[str]:
-        if not self.members:
-            return [first]
-        found = family(arms, first)
-        return found if self.members == "each" else found[-1:]
+        found = family(arms, first) if self.members else [first]
+        return found[-1:] if self.members == "top" else found
 
-    def _pair(self, arms: Arms, a: str, b: str | None) -> Pair | None:
+    def _pair(self, arms: Arms, a: str, b: str) -> Pair | None:
         if a not in arms or b not in arms:
             return None
         x, y = arms[a], arms[b]
@@ -420,18 +378,11 @@ class Cells(Rule):
 
     def over(self) -> str:
         """How the cells are read, in words."""
-        seeds = {
-            "all": "",
-            "common": " over the seeds both ran"
-            + f" (at least {self.min_seeds})" * (self.min_seeds > 1),
-            "unpaired": " (the seeds not paired)",
-        }[self.seeds]
+        at_least = f" (at least {self.min_seeds})" if self.min_seeds > 1 else ""
+        seeds = {"common": f" over the seeds both ran{at_least}", "unpaired": " (seeds not paired)"}
         opposite = ", ".join(map(str, self.except_at))
-        return (
-            seeds
-            + ", cell by cell"
-            + (f" (the opposite where the last cell key is {opposite})" if opposite else "")
-        )
+        opposite = f" (the opposite where the last cell key is {opposite})" if opposite else ""
+        return f"{seeds.get(self.seeds, '')}, cell by cell{opposite}"
 
     def versus(self, second: str) -> str:
         return f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
@@ -439,22 +390,21 @@ class Cells(Rule):
 
 @dataclass(frozen=True)
 class Means(Cells):
-    """The mean (``statistic="sd"``: the sd) of ``first`` ``relation`` that of ``second``; each
-    cell shows the paired difference and its 95% CI (``seeds`` not ``unpaired``);
-    ``summary``: also how many CIs lie below / above 0 and the ratios' median and range.
+    """The mean (``statistic="sd"``: the sd) of ``first`` ``relation`` that of ``second``;
+    each cell shows the paired difference and its 95% CI (but ``unpaired``). ``summary``:
+    also how many CIs lie below / above 0 and the ratios' median and range.
 
     >>> values = {("m", 2): {"a": {1: 1.0, 2: 3.0}, "b": {1: 2.0, 2: 4.0}},
     ...           ("m", 3): {"a": {1: 5.0}, "b": {1: 4.0}}}
-    >>> print(*Means("<=").judge(values, "a", ["b"], 0), sep="\\n")
-    partly
-    holds in 1/2 cells; m/2r: 2 vs 3 (paired -1 [-1, -1], n 2); m/3r: 5 vs 4 (paired 1 [-, -], n 1) x
+    >>> Means("<=").judge(values, "a", ["b"], 0)
+    ('partly', 'holds in 1/2 cells; m/2r: 2 vs 3 (paired -1 [-1, -1], n 2); m/3r: 5 vs 4 \
+(paired 1 [-, -], n 1) x')
     >>> Means("<", seeds="unpaired", brief=True).judge(values, "a", ["b"], 0)[1]
     'holds in 1/2 cells; fails in m/3r: 5 vs 4 x'
-    >>> Means("<", best=True, except_at=(3,)).judge(values, "b", ["a"], 0)[0]
-    'not reproduced'
-    >>> Means("<=").describe("a", "b", "T99")
-    'mean T99 of `a` <= that of `b`, cell by cell; reproduced if it holds in every cell, \
-partly if it holds in at least half of the cells'
+    >>> print(Means("<", best=True, except_at=(3,)).describe("b", "a / c", "T99"))
+    mean T99 of `b` < that of the lowest of `a / c` in each cell, cell by cell (the opposite \
+where the last cell key is 3); reproduced if it holds in every cell, partly if it holds in at \
+least half of the cells
     """
 
     relation: str
@@ -473,48 +423,40 @@ partly if it holds in at least half of the cells'
         return (HOLDS if _RELATIONS[self.relation](a, b) else FAILS), text
 
     def totals(self, checks: Sequence[Check]) -> list[str]:
-        if not self.summary:
-            return []
+        from statistics import median
+
         pairs: list[Pair] = [c.data for c in checks]
+        differences = [p.d for p in pairs if p.d is not None]
         out = []
-        if self.statistic == "mean" and all(p.d is not None for p in pairs):
-            below = sum(p.d is not None and p.d.ci_high < 0 for p in pairs)
-            above = sum(p.d is not None and p.d.ci_low > 0 for p in pairs)
+        if self.summary and self.statistic == "mean" and len(differences) == len(pairs):
+            below, above = (
+                sum(d.ci_high < 0 for d in differences),
+                sum(d.ci_low > 0 for d in differences),
+            )
             out.append(f"paired 95% CI below 0 in {below}, above 0 in {above}")
-        ratios = {
-            c.name: r
-            for c, p in zip(checks, pairs, strict=True)
-            if math.isfinite(
-                r := _ratio(getattr(p.a, self.statistic), getattr(p.b, self.statistic))
-            )
-        }
-        if ratios:
-            low, values = min(ratios, key=ratios.__getitem__), sorted(ratios.values())
-            middle = (values[(len(values) - 1) // 2] + values[len(values) // 2]) / 2
-            out.append(
-                f"ratio median {fmt(middle, 2)}, range {fmt(values[0], 2)}-{fmt(values[-1], 2)}, "
-                f"lowest at {low}"
-            )
+        of = [_ratio(getattr(p.a, self.statistic), getattr(p.b, self.statistic)) for p in pairs]
+        ratios = {c.name: r for c, r in zip(checks, of, strict=True) if math.isfinite(r)}
+        if self.summary and ratios:
+            low, spread = min(ratios, key=ratios.__getitem__), sorted(ratios.values())
+            middle, ends = fmt(median(spread), 2), f"{fmt(spread[0], 2)}-{fmt(spread[-1], 2)}"
+            out.append(f"ratio median {middle}, range {ends}, lowest at {low}")
         return out
 
 
 @dataclass(frozen=True)
 class Paired(Cells):
-    """The paired difference ``first - second`` over the seeds both ran: ``<`` its 95% CI below
-    0 holds, its mean below 0 weakly (``>``: above); ``=`` its mean within ``tolerance`` of
-    the mean of ``second`` and its CI holding 0 (or unknown, one seed) holds, one of the two
-    (the CI known) weakly.
+    """The paired difference ``first - second``: ``<`` its 95% CI below 0 holds, its mean
+    below 0 weakly (``>``: above); ``=`` its mean within ``tolerance`` of the mean of
+    ``second`` and its CI holding 0 (or unknown: one seed) holds, one of the two weakly.
 
     >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(6)},
     ...                      "b": {s: 5.0 for s in range(6)}}}
-    >>> print(*Paired("<").judge(values, "a", ["b"], 1), sep="\\n")
-    reproduced
-    its 95% CI below 0 in 1/1 cells, its mean below 0 in 1/1; \
-m/2r: 1.5 vs 5.0 (paired -3.5 [-4.1, -2.9], n 6)
-    >>> Paired("=", tolerance=0.1, members="top").judge(
-    ...     {("m", 3): {"SR 1": {1: 30.0}, "SR 10": {1: 21.0, 2: 19.0}, "b": {1: 20.0, 2: 20.0}}},
-    ...     "SR", ["b"], 0)[0]
-    'reproduced'
+    >>> Paired("<").judge(values, "a", ["b"], 1)
+    ('reproduced', 'holds in 1/1 cells, at least weakly in 1/1; m/2r: 1.5 vs 5.0 (paired -3.5 \
+[-4.1, -2.9], n 6)')
+    >>> top = {("m", 3): {"SR 1": {1: 30.0}, "SR 10": {1: 21.0, 2: 19.0}, "b": {1: 20.0, 2: 20.0}}}
+    >>> Paired("=", members="top").judge(top, "SR", ["b"], 0)[1]
+    'holds in 1/1 cells, at least weakly in 1/1; m/3r SR 10: 20 vs 20 (paired 0 [-13, 13], n 2)'
     """
 
     relation: Literal["<", ">", "="] = "<"
@@ -523,12 +465,12 @@ m/2r: 1.5 vs 5.0 (paired -3.5 [-4.1, -2.9], n 6)
 
     def what(self, first: str, second: str, metric: str) -> str:
         difference = f"paired difference of {metric}, {self.arm(first)} - `{second}`"
-        return f"{difference}, over the seeds both ran{self.over().removeprefix(' over the seeds both ran')}"
+        return f"{difference}, over the seeds both ran{self.over()}"
 
     def conditions(self) -> tuple[str, str]:
         if self.relation == "=":
-            close = f"|its mean| within {self.tolerance:.0%} of the second arm's mean"
-            return f"{close} and its 95% CI holding 0", "one of the two"
+            close = f"|its mean| is within {self.tolerance:.0%} of the second arm's mean"
+            return f"{close} and its 95% CI holds 0", "one of the two"
         side = "below" if self.relation == "<" else "above"
         return f"its 95% CI is {side} 0", f"its mean is {side} 0"
 
@@ -540,24 +482,22 @@ m/2r: 1.5 vs 5.0 (paired -3.5 [-4.1, -2.9], n 6)
             zero_in = not known or d.ci_low <= 0 <= d.ci_high
             grade = HOLDS if close and zero_in else WEAK if close or (known and zero_in) else FAILS
             return grade if math.isfinite(d.mean + pair.b.mean) else FAILS, text
-        sign = 1 if self.relation == "<" else -1
-        sure, likely = sign * (d.ci_high if sign > 0 else d.ci_low), sign * d.mean
+        sure, likely = (d.ci_high, d.mean) if self.relation == "<" else (-d.ci_low, -d.mean)
         return (HOLDS if sure < 0 else WEAK if likely < 0 else FAILS), text
 
 
 @dataclass(frozen=True)
 class Ratio(Cells):
     """The ratio of the means ``first / second`` ``relation`` ``bound`` holds, ``relation``
-    ``weak`` weakly; with ``paper`` (cell -> the paper's ratio) it holds if also within
-    ``factor`` of the paper's, and weakly if only ``relation`` ``bound``.
+    ``weak`` weakly; with ``paper`` (cell -> the paper's ratio) it holds only if also
+    within ``factor`` of the paper's, else weakly. ``digits``: of the ratios.
 
     >>> values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
-    >>> print(*Ratio("<=", 1.25).judge(values, "a", ["b"], 0), sep="\\n")
-    partly
-    holds in 1/2 cells; m/1r: 11 vs 10 (ratio 1.10); m/5r: 15 vs 10 (ratio 1.50) x
-    >>> Ratio(">", 1, paper={("m", 1): 1.0, ("m", 5): 1.0}, digits=1).judge(values, "a", ["b"], 0)
-    ('partly', 'it is > 1 and within a factor 2 of the paper's in 2/2 cells, it is > 1 in 2/2; \
-m/1r: 11 vs 10 (ratio 1.1, paper 1.0); m/5r: 15 vs 10 (ratio 1.5, paper 1.0)')
+    >>> Ratio("<=", 1.25).judge(values, "a", ["b"], 0)[1]
+    'holds in 1/2 cells; m/1r: 11 vs 10 (ratio 1.10); m/5r: 15 vs 10 (ratio 1.50) x'
+    >>> Ratio(">", 1, paper={("m", 1): 1.0, ("m", 5): 1.0}, digits=1).judge(values, "a", ["b"], 0)[1]
+    'holds in 2/2 cells, at least weakly in 2/2; m/1r: 11 vs 10 (ratio 1.1, paper 1.0); m/5r: \
+15 vs 10 (ratio 1.5, paper 1.0)'
     """
 
     relation: str
@@ -577,8 +517,7 @@ m/1r: 11 vs 10 (ratio 1.1, paper 1.0); m/5r: 15 vs 10 (ratio 1.5, paper 1.0)')
         return bound, f"it is {self.relation} {self.weak:g}" if self.weak is not None else ""
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        holds = _RELATIONS[self.relation]
-        r, paper = _ratio(pair.a.mean, pair.b.mean), math.nan
+        holds, r = _RELATIONS[self.relation], _ratio(pair.a.mean, pair.b.mean)
         text = f"{ask.fmt(pair.a.mean)} vs {ask.fmt(pair.b.mean)} (ratio {fmt(r, self.digits)}"
         if self.paper is None:
             weak = self.weak is not None and holds(r, self.weak)
@@ -596,8 +535,8 @@ class Level(Rule):
 
     >>> values = {("m", 2): {"a": {1: 0.95}, "b": {1: 0.2}}, ("m", 4): {"a": {1: 0.9}}}
     >>> Level(">=", 0.95, 0.8, shown=("b",)).judge(values, "a", [], 2)
-    ('partly', '`a`: it is >= 0.95 in 1/2 cells, it is >= 0.8 in 2/2; m/2r: 0.95; \
-m/4r: 0.90 (weak) | `b`: m/2r: 0.20')
+    ('partly', '`a`: holds in 1/2 cells, at least weakly in 2/2; m/2r: 0.95; m/4r: 0.90 (weak) \
+| `b`: m/2r: 0.20')
     """
 
     relation: str
@@ -626,52 +565,46 @@ m/4r: 0.90 (weak) | `b`: m/2r: 0.20')
 
 @dataclass(frozen=True)
 class NotBelowAll(Rule):
-    """``first`` is not superior to the other arms: it is superior in a cell where the
-    paired 95% CI of ``first - second`` lies below 0 against every other arm.
+    """``first`` is not superior to the other arms: superior in a cell where the paired 95%
+    CI of ``first - second`` lies below 0 against every other arm.
 
     >>> far = {s: 5.0 + s % 2 for s in range(4)}
     >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(4)}, "b": far, "c": far},
     ...           ("m", 4): {"a": far, "b": far, "c": far}}
-    >>> print(*NotBelowAll(brief=True).judge(values, "a", ["b", "c"], 0), sep="\\n")
-    partly
-    not below every other in 1/2 cells; fails in m/2r: `b` -4 [-5, -3], n 4; `c` -4 [-5, -3], n 4 x
+    >>> NotBelowAll(brief=True).judge(values, "a", ["b", "c"], 0)
+    ('partly', 'holds in 1/2 cells; fails in m/2r: `b` -4 [-4, -4], n 4; `c` -4 [-4, -4], n 4 x')
     """
 
     def what(self, first: str, second: str, metric: str) -> str:
-        test = f"the paired 95% CI of its {metric} minus that of each of `{second}`"
-        return (
-            f"`{first}` is superior in a cell if {test} lies below 0; the claim is that it is not"
-        )
-
-    def conditions(self) -> tuple[str, str]:
-        return "it is not below every other", ""
+        test = f"the paired 95% CI of its {metric} minus that of each of `{second}` lies below 0"
+        return f"`{first}` is superior in a cell if {test}; the claim holds where it is not"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         for cell, arms in ask.values.items():
             if {ask.first, *ask.seconds} <= set(arms):
                 ds = {s: paired(arms, ask.first, s) for s in ask.seconds}
-                superior = all(d.ci_high < 0 for d in ds.values())
                 text = "; ".join(f"`{s}` {_diff(d, ask.digits)}" for s, d in ds.items())
+                superior = all(d.ci_high < 0 for d in ds.values())
                 yield Check(_cell_name(cell), text, FAILS if superior else HOLDS)
 
 
-# -------------------------------------------------------------------- curves
+# ------------------------------------------------------------------------ curves
 
 
 @dataclass(frozen=True, kw_only=True)
 class Along(Rule):
     """Base of the rules that follow curves: ``along`` the last cell key (a curve per group
     of the other keys), the ``cells`` in the caller's order (one curve), or the levels of
-    the :func:`family` ``first`` (a curve per cell); ``within``: only the cells whose key
-    starts with these parts."""
+    the :func:`family` ``first`` (a curve per cell); ``within``: the cells whose key starts
+    with these parts only."""
 
     along: Literal["key", "cells", "family"] = "key"
     within: CellKey = ()
     item: ClassVar[str] = "curve"
 
-    def curves(self, values: Values, arm: str) -> dict[str, dict[Any, Mapping[int, float]]]:
+    def curves(self, values: Values, arm: str) -> dict[str, dict[Any, BySeed]]:
         """``curve name -> x -> seed -> value`` of one arm."""
-        out: dict[str, dict[Any, Mapping[int, float]]] = {}
+        out: dict[str, dict[Any, BySeed]] = {}
         for cell, arms in values.items():
             if cell[: len(self.within)] != self.within:
                 continue
@@ -684,53 +617,43 @@ class Along(Rule):
                 out.setdefault("/".join(map(str, group)), {})[x] = arms[arm]
         return out
 
-    def axis(self, first: str) -> str:
-        return {
-            "key": "the last cell key, per group of the other keys",
-            "cells": "the cells in order",
-            "family": f"the level of `{first} *`, cell by cell",
-        }[self.along]
-
     def means(self, ask: Ask, arm: str) -> dict[str, dict[Any, float]]:
         """``curve name -> x -> mean`` of one arm."""
-        return {
-            n: {x: _mean(s) for x, s in c.items()} for n, c in self.curves(ask.values, arm).items()
-        }
+        curves = self.curves(ask.values, arm).items()
+        return {name: {x: _mean(s) for x, s in curve.items()} for name, curve in curves}
+
+    def axis(self, first: str) -> str:
+        axes = {"key": "the last cell key, per group of the other keys", "cells": "the cells"}
+        return axes.get(self.along, f"the level of `{first} *`, cell by cell")
 
 
 def _moves(direction: str, a: float, b: float) -> bool:
     return b < a if direction == "falls" else b > a
 
 
-def _change(a: float, b: float) -> str:
-    r = _ratio(b, a)
-    return f"{100 * (r - 1):+.0f}%" if math.isfinite(r) else "-"
-
-
 @dataclass(frozen=True)
 class Trend(Along):
-    """The curves of ``first`` (and of each arm of ``seconds``; of ``first / second`` for
-    ``ratio`` and ``gap``) rise or fall. ``kind``:
+    """The curves of ``first`` and of each arm of ``seconds`` (``ratio``, ``gap``: of
+    ``first`` against ``second``, over the seeds both ran) fall or rise. ``kind``:
+    ``steps``, at every step (holds) or from the first point to the last (weakly), beside
+    ``paper`` (arm -> numbers); ``rank``, Spearman's rho beyond ``rho`` and the last point
+    beyond the first (``paired``: by the paired 95% CI of first - last; one of the two, or
+    that difference's mean, weakly); ``diminishing``, falling from the smallest key to the
+    largest (weakly) and at least as much up to the middle key as after (holds); ``ratio``,
+    the ratio of the means moves from the first point to the last (and ends beyond
+    ``bound``, if given; else weakly); ``gap``, the difference and the ratio shrink (the
+    difference only: weakly).
 
-    - ``steps``: at every step holds, from the first point to the last weakly; ``paper``
-      (arm -> numbers) is shown beside;
-    - ``rank``: Spearman's rho beyond ``rho`` and the last point beyond the first (``paired``:
-      by the paired 95% CI of first - last; then one of the two, or that mean, weakly);
-    - ``diminishing``: it falls from its smallest key to its largest, dropping at least as
-      much up to its middle key as after (diminishing returns); only falling: weakly;
-    - ``ratio``: the ratio of the means (the seeds both ran) from its first point to its last,
-      ending beyond ``bound`` if given (else only moving: weakly);
-    - ``gap``: the difference and the ratio both shrink; the difference only: weakly.
-
-    >>> values = {("m", n): {"a": {1: 9.0 / n}, "b": {1: m}} for n, m in ((1, 8.0), (2, 6.0), (3, 7.0))}
-    >>> print(*Trend("steps", needs=EVERY_WEAK).judge(values, "a", ["b"], 0), sep="\\n")
-    partly
-    falls at every step in 1/2 curves, ends below where it starts in 2/2; \
-`a` m: 1:9, 2:4, 3:3, -67% first to last; `b` m: 1:8, 2:6, 3:7, -12% first to last (weak)
+    >>> values = {("m", n): {"a": {1: 9 / n}, "b": {1: b}} for n, b in ((1, 8), (2, 6), (3, 7))}
+    >>> Trend("steps", needs=EVERY_WEAK).judge(values, "a", ["b"], 0)[1]
+    'holds in 1/2 curves, at least weakly in 2/2; `a` m: 1:9, 2:4, 3:3, -67% first to last; \
+`b` m: 1:8, 2:6, 3:7, -12% first to last (weak)'
     >>> Trend("rank").judge(values, "b", [], 0)
     ('not reproduced', 'holds in 0/1 curves; m: 1:8, 2:6, 3:7 (Spearman rho -0.50) x')
     >>> Trend("ratio").judge(values, "a", ["b"], 0)[1]
     'holds in 1/1 curves; m: 1:1.12, 2:0.75, 3:0.43'
+    >>> Trend("gap").judge(values, "a", ["b"], 0)[1]
+    'holds in 1/1 curves, at least weakly in 1/1; m: 1: 1 (x1.12) -> 3: -4 (x0.43)'
     """
 
     kind: Literal["steps", "rank", "diminishing", "ratio", "gap"]
@@ -745,118 +668,107 @@ class Trend(Along):
     def what(self, first: str, second: str, metric: str) -> str:
         if self.kind in ("ratio", "gap"):
             of = "ratio" if self.kind == "ratio" else "difference and ratio"
-            return f"{of} of the mean {metric} of `{first}` and of `{second}` (the seeds both ran) against {self.axis(first)}"
+            means = f"the mean {metric} of `{first}` and of `{second}` (the seeds both ran)"
+            return f"{of} of {means} against {self.axis(first)}"
         arms = " / ".join(f"`{a}`" for a in (first, *second.split(" / ")) if a)
-        paper = " (beside the paper's numbers)" * bool(self.paper)
-        return f"mean {metric} of {'each of ' * (' / ' in arms)}{arms} against {self.axis(first)}{paper}"
+        arms = f"each of {arms}" if " / " in arms else arms
+        paper = " (beside the paper's numbers)" if self.paper else ""
+        return f"mean {metric} of {arms} against {self.axis(first)}{paper}"
 
     def conditions(self) -> tuple[str, str]:
         way, side = self.direction, "below" if self.direction == "falls" else "above"
         ends = f"it ends {side} where it starts"
-        if self.kind == "steps":
-            return f"it {way} at every step", ends
-        if self.kind == "rank":
-            rho = f"Spearman's rho {'<= -' if way == 'falls' else '>= '}{self.rho:g}"
-            if not self.paired:
-                return f"{rho} and {ends}", ""
+        rho = f"Spearman's rho {'<= -' if way == 'falls' else '>= '}{self.rho:g}"
+        bound = f" and it ends {side} {self.bound:g}" if self.bound is not None else ""
+        words = {
+            "steps": (f"it {way} at every step", ends),
+            "rank": (f"{rho} and {ends}", ""),
+            "diminishing": ("it falls with diminishing returns", "it falls"),
+            "ratio": (f"it {way}{bound}", f"it {way}" if bound else ""),
+            "gap": ("both shrink", "the difference shrinks"),
+        }
+        if self.kind == "rank" and self.paired:
             sure = f"first - last has a paired 95% CI {'above' if way == 'falls' else 'below'} 0"
-            return f"{rho} and its {sure}", "one of the two, or that difference's mean"
-        if self.kind == "diminishing":
-            return "it falls with diminishing returns", "it falls"
-        if self.kind == "gap":
-            return "both shrink from the first point to the last", "the difference shrinks"
-        bound = (
-            f" and ends {side.replace('below', 'under')} {self.bound:g}"
-            if self.bound is not None
-            else ""
-        )
-        return f"it {way} from the first point to the last{bound}", f"it {way}" * (
-            self.bound is not None
-        )
+            return f"{rho} and {sure}", "one of the two, or that difference's mean"
+        return words[self.kind]
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         if self.kind in ("ratio", "gap"):
-            yield from self._pairs(ask)
+            yield from self._against(ask)
             return
         arms = [ask.first, *ask.seconds, *self.shown]
-        test = {"steps": self._steps, "rank": self._rank, "diminishing": self._diminishing}[
-            self.kind
-        ]
+        test = {"steps": self._steps, "rank": self._rank, "diminishing": self._diminishing}
         for arm in arms:
             for name, curve in self.curves(ask.values, arm).items():
-                found = test(arm, curve, ask)
-                label = " ".join(filter(None, [f"`{arm}`" * (len(arms) > 1), name]))
-                if found is not None:
-                    yield Check(label, found[1], None if arm in self.shown else found[0])
+                if self.kind == "diminishing" and len(curve) < 2:
+                    continue
+                grade, text = test[self.kind](arm, curve, ask)
+                label = f"`{arm}` {name}".strip() if len(arms) > 1 else name
+                yield Check(label, text, None if arm in self.shown else grade)
 
-    def _steps(self, arm: str, curve: Mapping[Any, Arms], ask: Ask) -> tuple[int, str]:
+    def _steps(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
         means = [_mean(s) for s in curve.values()]
         every = all(_moves(self.direction, a, b) for a, b in itertools.pairwise(means))
         ends = len(means) > 1 and _moves(self.direction, means[0], means[-1])
         paper = ", ".join(ask.fmt(p) for p in self.paper.get(arm, ()))
         text = series_text(dict(zip(curve, means, strict=True)), ask.digits)
-        text += f" (paper {paper})" * bool(paper)
-        text += f", {_change(means[0], means[-1])} first to last" * (len(means) > 1)
+        text += f" (paper {paper})" if paper else ""
+        if len(means) > 1:
+            change = _ratio(means[-1], means[0])
+            text += f", {100 * (change - 1):+.0f}% first to last" if math.isfinite(change) else ""
         return (HOLDS if every and ends else WEAK if ends else FAILS), text
 
-    def _rank(self, arm: str, curve: Mapping[Any, Arms], ask: Ask) -> tuple[int, str]:
+    def _rank(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
         xs, means = list(curve), [_mean(s) for s in curve.values()]
         rho = spearman([float(x) for x in xs], means)
         steep = rho <= -self.rho if self.direction == "falls" else rho >= self.rho
-        text = f"{series_text(dict(zip(xs, means, strict=True)), ask.digits)} (Spearman rho {fmt(rho, 2)}"
+        text = f"{series_text(dict(zip(xs, means, strict=True)), ask.digits)} (Spearman rho "
+        text += fmt(rho, 2)
         if not self.paired:
-            ends = len(means) > 1 and _moves(self.direction, means[0], means[-1])
+            ends = _moves(self.direction, means[0], means[-1])
             return (HOLDS if steep and ends else FAILS), text + ")"
-        sign = 1 if self.direction == "falls" else -1
         d = paired({"a": curve[xs[0]], "b": curve[xs[-1]]}, "a", "b")
-        sure, likely = sign * (d.ci_low if sign > 0 else d.ci_high) > 0, sign * d.mean > 0
-        grade = HOLDS if steep and sure else WEAK if steep or likely else FAILS
+        sure, likely = (d.ci_low, d.mean) if self.direction == "falls" else (-d.ci_high, -d.mean)
+        grade = HOLDS if steep and sure > 0 else WEAK if steep or likely > 0 else FAILS
         return grade, f"{text}; first - last paired {_diff(d, ask.digits)})"
 
-    def _diminishing(self, arm: str, curve: Mapping[Any, Arms], ask: Ask) -> tuple[int, str] | None:
+    def _diminishing(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
         keys = sorted(curve)
-        if len(keys) < 2:
-            return None
         a, middle, z = (_mean(curve[k]) for k in (keys[0], keys[len(keys) // 2], keys[-1]))
         grade = (HOLDS if a - middle >= middle - z else WEAK) if z < a else FAILS
         return grade, series_text({k: _mean(curve[k]) for k in curve}, ask.digits)
 
-    def _pairs(self, ask: Ask) -> Iterator[Check]:
+    def _against(self, ask: Ask) -> Iterator[Check]:
         second = self.curves(ask.values, ask.seconds[0])
         for name, curve in self.curves(ask.values, ask.first).items():
-            points = {}
+            points: dict[Any, tuple[float, float]] = {}
             for x, a in curve.items():
                 b = second.get(name, {}).get(x, {})
                 common = sorted(set(a) & set(b))
                 if common:
-                    points[x] = tuple(_mean({s: v[s] for s in common}) for v in (a, b))
+                    points[x] = (_mean({s: a[s] for s in common}), _mean({s: b[s] for s in common}))
             if len(points) >= 2:
-                yield Check(name, *self._gap(points, ask))
+                yield Check(name, *self._ratios(points, ask))
 
-    def _gap(self, points: Mapping[Any, tuple[float, float]], ask: Ask) -> tuple[str, int]:
+    def _ratios(self, points: Mapping[Any, tuple[float, float]], ask: Ask) -> tuple[str, int]:
         ratios = {x: _ratio(a, b) for x, (a, b) in points.items()}
         (x0, r0), (x1, r1) = next(iter(ratios.items())), list(ratios.items())[-1]
-        moves = _moves(self.direction if self.kind == "ratio" else "falls", r0, r1)
         if self.kind == "ratio":
-            beyond = self.bound is None or (
-                r1 > self.bound if self.direction == "rises" else r1 < self.bound
-            )
+            moves = _moves(self.direction, r0, r1)
+            bound = self.bound is None or _moves(self.direction, self.bound, r1)
             return series_text(
                 ratios, self.digits
-            ), HOLDS if moves and beyond else WEAK if moves else FAILS
+            ), HOLDS if moves and bound else WEAK if moves else FAILS
         (a0, b0), (a1, b1) = points[x0], points[x1]
-        shrinks = a1 - b1 < a0 - b0
-        text = (
-            f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
-            f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
-        )
-        return text, (HOLDS if moves else WEAK) if shrinks else FAILS
+        text = f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
+        text += f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
+        return text, ((HOLDS if r1 < r0 else WEAK) if a1 - b1 < a0 - b0 else FAILS)
 
 
 @dataclass(frozen=True)
 class FallsFasterBelow(Along):
-    """Per curve of ``first`` (x its key), the mean falls per unit of x from the smallest x to
-    ``at`` (the gain below, above 0) faster than from ``at`` to the largest (above).
+    """Per curve of ``first`` (x: its key), the mean falls per unit of x from the smallest x
+    to ``at`` (the gain below, above 0) faster than from ``at`` to the largest (above).
 
     >>> values = {("t", x): {"a": {1: m}} for x, m in ((4, 400.0), (16, 280.0), (24, 272.0))}
     >>> FallsFasterBelow(16, "cell").judge(values, "a", [], 2)
@@ -867,10 +779,12 @@ class FallsFasterBelow(Along):
     unit: str = "unit"
 
     def what(self, first: str, second: str, metric: str) -> str:
-        gains = (
-            f"gain per {self.unit} below {self.at:g} = (m(x_min) - m({self.at:g})) / ({self.at:g} "
-            f"- x_min), above = (m({self.at:g}) - m(x_max)) / (x_max - {self.at:g})"
+        at = f"{self.at:g}"
+        below, above = (
+            f"(m(x_min) - m({at})) / ({at} - x_min)",
+            f"(m({at}) - m(x_max)) / (x_max - {at})",
         )
+        gains = f"gain per {self.unit} below {at} = {below}, above = {above}"
         return f"mean {metric} of `{first}` against {self.axis(first)} (x): {gains}"
 
     def conditions(self) -> tuple[str, str]:
@@ -891,28 +805,28 @@ class FallsLess(Along):
     """Per curve, the mean of ``first`` falls less from the smallest key to the largest than
     that of ``second`` (a rise counts as less).
 
-    >>> values = {("t", x): {"a": {1: a}, "b": {1: b}} for x, a, b in ((4, 30.0, 34.0), (8, 29.0, 30.0))}
+    >>> values = {("t", x): {"a": {1: a}, "b": {1: b}} for x, a, b in ((4, 30, 34), (8, 29, 30))}
     >>> FallsLess().judge(values, "a", ["b"], 0)
     ('reproduced', 'holds in 1/1 curves; t: `a` falls by 1 vs `b` by 4')
     """
 
     def what(self, first: str, second: str, metric: str) -> str:
-        fall = "m(x_min) - m(x_max)"
-        return f"fall {fall} of the mean {metric} of `{first}` and of `{second}` against {self.axis(first)}"
+        means = f"the mean {metric} of `{first}` and of `{second}`"
+        return f"fall m(x_min) - m(x_max) of {means} against {self.axis(first)}"
 
     def conditions(self) -> tuple[str, str]:
-        return "that of the first is smaller", ""
+        return "the fall of the first is smaller", ""
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         arms = (ask.first, ask.seconds[0])
         curves = [self.means(ask, arm) for arm in arms]
         for name in dict.fromkeys(n for c in curves for n in c):
-            a, b = (
+            falls = [
                 c[name][min(c[name])] - c[name][max(c[name])] if c.get(name) else math.nan
                 for c in curves
-            )
-            text = f"`{arms[0]}` falls by {ask.fmt(a)} vs `{arms[1]}` by {ask.fmt(b)}"
-            yield Check(name, text, HOLDS if a < b else FAILS)
+            ]
+            text = f"`{arms[0]}` falls by {ask.fmt(falls[0])} vs `{arms[1]}` by {ask.fmt(falls[1])}"
+            yield Check(name, text, HOLDS if falls[0] < falls[1] else FAILS)
 
 
 @dataclass(frozen=True)
@@ -930,9 +844,7 @@ class RisesAbove(Along):
 
     def what(self, first: str, second: str, metric: str) -> str:
         where = f" (cells {'/'.join(map(str, self.within))}/...)" if self.within else ""
-        above = (
-            f"at every key above {self.at:g} exceeds that at the largest key of at most {self.at:g}"
-        )
+        above = f"at every key above {self.at:g} exceeds that at the largest key up to {self.at:g}"
         return f"mean {metric} of `{first}` {above}, against {self.axis(first)}{where}"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
@@ -940,12 +852,13 @@ class RisesAbove(Along):
             above = [k for k in means if k > self.at]
             ref = max((k for k in means if k <= self.at), default=None)
             if ref is not None and above:
-                ok = all(means[k] > means[ref] for k in above)
                 shown = ", ".join(f"{ask.fmt(means[k])} at {k}" for k in [ref, *above])
-                yield Check(name, shown, HOLDS if ok else FAILS)
+                yield Check(
+                    name, shown, HOLDS if all(means[k] > means[ref] for k in above) else FAILS
+                )
 
 
-# ---------------------------------------------------- against the paper's numbers
+# ----------------------------------------------------- against the paper's numbers
 
 
 @dataclass(frozen=True)
@@ -969,10 +882,9 @@ class SignsAsPaper(Rule):
         return f"sign of {rho}, column by column, as the paper's"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
-        for column in next(iter(self.paper.values()), {}):
-            theirs = trend_sign(
-                list(self.paper), [r[column] for r in self.paper.values()], self.threshold
-            )
+        levels, rows = list(self.paper), list(self.paper.values())
+        for column in rows[0] if rows else {}:
+            theirs = trend_sign(levels, [row[column] for row in rows], self.threshold)
             means = family_means(ask.values.get((column,), {}), ask.first)
             ours = trend_sign([level(a) for a in means], list(means.values()), self.threshold)
             yield Check(
@@ -986,7 +898,7 @@ class AtEnds(Rule):
     its lowest level and at most ``low`` at its highest: both hold, one weakly.
 
     >>> AtEnds("TPT", 20, 5).judge({("TPT",): {"SR 1": {1: 30.0}, "SR 9": {1: 8.0}}}, "SR", [], 1)
-    ('partly', 'both in 0/1 cells, one in 1/1; TPT: SR 1 30.0, SR 9 8.0 (weak)')
+    ('partly', 'holds in 0/1 cells, at least weakly in 1/1; TPT: SR 1 30.0, SR 9 8.0 (weak)')
     """
 
     column: str
@@ -995,32 +907,29 @@ class AtEnds(Rule):
     usual: ClassVar[Needs] = EVERY_WEAK
 
     def what(self, first: str, second: str, metric: str) -> str:
-        return (
-            f"mean {metric} of {self.column} along `{first} *`: >= {self.high:g} at the lowest "
-            f"level, <= {self.low:g} at the highest"
-        )
+        ends = f">= {self.high:g} at the lowest level, <= {self.low:g} at the highest"
+        return f"mean {metric} of {self.column} along `{first} *`: {ends}"
 
     def conditions(self) -> tuple[str, str]:
-        return "both", "one"
+        return "both hold", "one holds"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         means = family_means(ask.values.get((self.column,), {}), ask.first)
         if means:
-            ends = [next(iter(means)), list(means)[-1]]
-            met = (means[ends[0]] >= self.high) + (means[ends[1]] <= self.low)
-            text = ", ".join(f"{a} {ask.fmt(means[a])}" for a in ends)
+            low, high = next(iter(means)), list(means)[-1]
+            met = (means[low] >= self.high) + (means[high] <= self.low)
+            text = ", ".join(f"{a} {ask.fmt(means[a])}" for a in (low, high))
             yield Check(self.column, text, [FAILS, WEAK, HOLDS][met])
 
 
 @dataclass(frozen=True)
 class NearPaper(Rule):
     """Per cell, the means of the :func:`family` ``first`` at the paper's levels (``paper``:
-    level -> value) fall strictly and each is within ``factor`` of the paper's (holds);
-    they only fall (weakly).
+    level -> value) fall strictly (weakly) and each is within ``factor`` of the paper's.
 
     >>> values = {("m", 3): {"SR 1": {1: 9.0}, "SR 10": {1: 3.0}}}
     >>> NearPaper({1.0: 8.0, 10.0: 1.0}, 2).judge(values, "SR", [], 1)
-    ('partly', 'holds in 0/1 cells, it only falls in 1/1; m/3r: SR 1 9.0, SR 10 3.0 (weak)')
+    ('partly', 'holds in 0/1 cells, at least weakly in 1/1; m/3r: SR 1 9.0, SR 10 3.0 (weak)')
     """
 
     paper: Mapping[float, float]
@@ -1031,10 +940,7 @@ class NearPaper(Rule):
         return f"mean {metric} of `{first} *` at the paper's levels"
 
     def conditions(self) -> tuple[str, str]:
-        return (
-            f"it falls strictly, each within a factor {self.factor:g} of the paper's",
-            "it only falls",
-        )
+        return f"it falls strictly, each within a factor {self.factor:g} of the paper's", "it falls"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         for cell, arms in ask.values.items():
@@ -1046,17 +952,17 @@ class NearPaper(Rule):
             yield Check(_cell_name(cell), text, (HOLDS if near else WEAK) if falls else FAILS)
 
 
-# ------------------------------------------------------------------- claims
+# ------------------------------------------------------------------------ claims
 
 
 @dataclass(frozen=True)
 class Verdict:
-    """One claim of the paper and whether our numbers agree."""
+    """One claim of the paper and whether our numbers agree (``evidence``: ours beside the
+    paper's)."""
 
     claim: str
     outcome: Outcome
     evidence: str
-    """The numbers and figures that say so: ours beside the paper's."""
 
     def line(self) -> str:
         return f"- **{self.outcome}**: {self.claim} ({self.evidence})"
@@ -1064,24 +970,22 @@ class Verdict:
 
 @dataclass(frozen=True)
 class Claim:
-    """One claim of the paper and how it is judged."""
+    """One claim of the paper and how it is judged: ``where`` in the paper (``"§IV"``), our
+    ``statement``, the paper's own ``sentence``, the ``metric`` (a key of the
+    :data:`Values` tables) and its label, the arms (the rule pools ``seconds`` with
+    ``second``), the rule, the decimals of its numbers."""
 
     id: str
     where: str
-    """Where in the paper: ``"Abstract"``, ``"§IV"``, ``"Fig. 10"``."""
     statement: str
-    """The claim in our words, as the verdict line names it."""
     sentence: str
-    """The paper's own sentence (or the part of it the claim rests on)."""
     metric: str
-    """The key of :data:`Values` tables the claim reads (``time``, ``bytes``, ...)."""
     metric_label: str
     first: str
     second: str
     rule: Rule
     digits: int = 0
     seconds: tuple[str, ...] = ()
-    """Further arms to compare ``first`` with (a rule pools their cells)."""
 
     def rule_text(self) -> str:
         """The rule in words, for the report's rule list."""
@@ -1091,29 +995,23 @@ class Claim:
     def judge(self, tables: Mapping[str, Values]) -> Verdict:
         """The verdict from ``metric -> values``."""
         seconds = [a for a in (self.second, *self.seconds) if a]
-        values = tables.get(self.metric, {})
-        outcome, text = self.rule.judge(values, self.first, seconds, self.digits)
-        return Verdict(
-            f"{self.where}: {self.statement}",
-            outcome,
-            f'{self.metric_label}: {text}; paper: "{self.sentence}"',
+        outcome, text = self.rule.judge(
+            tables.get(self.metric, {}), self.first, seconds, self.digits
         )
+        evidence = f'{self.metric_label}: {text}; paper: "{self.sentence}"'
+        return Verdict(f"{self.where}: {self.statement}", outcome, evidence)
 
 
 @dataclass(frozen=True)
 class Interpretation:
-    """A named alternative reading of a sentence of the paper, as run overrides.
-
-    ``set`` overrides strategy parameters of the runs whose strategy is in
-    ``strategies`` (every run when empty); the experiments it does not change are
-    reused from the default reading.
-    """
+    """A named alternative reading of a sentence of the paper (``sentence``, with where it
+    stands; ``reading``: how it reads it, against the default), as run overrides: ``set``
+    overrides strategy parameters of the runs whose strategy is in ``strategies`` (every
+    run when empty); the experiments it does not change are reused."""
 
     name: str
     sentence: str
-    """The paper's sentence that is read differently (with where it stands)."""
     reading: str
-    """How this interpretation reads it, against the default reading."""
     set: Mapping[str, Any] = field(default_factory=dict)
     strategies: tuple[str, ...] = ()
 
@@ -1124,11 +1022,10 @@ class Interpretation:
 def claims_section(claims: Sequence[Claim], tables: Mapping[str, Values]) -> list[str]:
     """The verdict section: each claim's rule, then one verdict line per claim."""
     lines = ["## Verdicts", "", "Rules, fixed before the runs and never tuned:", ""]
-    lines += [f"- `{claim.id}`: {claim.rule_text()}" for claim in claims]
+    lines += [f"- `{claim.id}`: {claim.rule_text()}, not reproduced otherwise" for claim in claims]
     lines += ["", "(`x` marks a cell or curve where the comparison fails, `(weak)` one where"]
     lines += ["only its weaker form holds.)", ""]
-    lines += [claim.judge(tables).line() for claim in claims]
-    return lines
+    return lines + [claim.judge(tables).line() for claim in claims]
 
 
 def robustness(
@@ -1149,8 +1046,7 @@ def robustness_section(
 ) -> list[str]:
     """Per claim, its verdict under every reading and ``robust`` / ``fragile``.
 
-    >>> claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T", "a", "b",
-    ...               Means("<="))
+    >>> claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T", "a", "b", Means("<="))
     >>> default = {"time": {("m", 2): {"a": {1: 1.0}, "b": {1: 2.0}}}}
     >>> other = {"time": {("m", 2): {"a": {1: 3.0}, "b": {1: 2.0}}}}
     >>> lines = robustness_section([claim], {"default": default, "slow-a": other},
@@ -1182,9 +1078,7 @@ def robustness_section(
         "|---" * (len(names) + 2) + "|",
     ]
     for claim_id, outcomes in robustness(claims, readings).items():
-        default = outcomes[names[0]]
-        changed = [name for name in names[1:] if outcomes[name] != default]
+        changed = [name for name in names[1:] if outcomes[name] != outcomes[names[0]]]
         summary = "robust" if not changed else f"**fragile** (changes under {', '.join(changed)})"
-        cells = " | ".join(outcomes[name] for name in names)
-        lines.append(f"| `{claim_id}` | {cells} | {summary} |")
+        lines.append(f"| `{claim_id}` | {' | '.join(outcomes.values())} | {summary} |")
     return [*lines, ""]

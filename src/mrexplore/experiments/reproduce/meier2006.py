@@ -188,14 +188,14 @@ Judged = tuple[str, str, str, str, claims.Rule, int, tuple[str, ...]]  # Claim.m
 _SOME = claims.SOME_WEAK
 _GROWS = claims.Trend("ratio", "rises", along="cells", bound=1, digits=3, needs=claims.EVERY_WEAK)
 _SIMILAR = claims.Ratio("<=", 1.15, weak=1.30, needs=_SOME)
-_SIGNS = claims.SignsAsPaper(PAPER_TABLE1, 0.3, needs=claims.Needs.shares(1.0, 0.6))  # 3 of 5
+_SIGNS = claims.SignsAsPaper(PAPER_TABLE1, 0.3, needs=claims.Needs(partly_holds=0.6))  # 3 of 5
 _FRAGMENT = claims.Ratio(
     *("<=", 0.5),
     weak=1.0,
     members="each",
     shown=(RAW_HALF,),
     digits=3,
-    needs=claims.Needs(partly=((0.0, None), (None, 1.0))),
+    needs=claims.Needs(partly_holds=0, partly_weakly=1),
 )
 _T99 = ("time", "T99 (ticks)")
 #: (id, where) -> the claim in our words, the paper's words, how it is judged. Time claims

@@ -180,7 +180,7 @@ PAPER_RATIOS = {(f"w3={w3:g}",): p[0] / p[1] for w3, p in PAPER_TABLE4.items()}
 _COLUMNS = list(zip(*PAPER_TABLE4.values(), strict=True))  # by w3: without, with, their sds
 PAPER_COLUMNS = {WITHOUT: _COLUMNS[0], WITH: _COLUMNS[1]}
 #: The paired difference's mean below 0 in every cell and its CI in at least half of them.
-MOSTLY_LOWER = claims.Paired("<", needs=claims.Needs(((0.5, 1.0),), ((None, 0.5),)))
+MOSTLY_LOWER = claims.Paired("<", needs=claims.Needs(0.5, 1, partly_holds=None, partly_weakly=0.5))
 _W3 = (CASE_WITH, CASE_WITHOUT)
 #: Claim id -> (values read, first arm, second arm, rule, further arms, digits).
 RULES: dict[str, tuple[str, str, str, claims.Rule, tuple[str, ...], int]] = {
@@ -208,7 +208,7 @@ RULES: dict[str, tuple[str, str, str, claims.Rule, tuple[str, ...], int]] = {
             along="cells",
             paper=PAPER_COLUMNS,
             shown=(PARTITIONS,),
-            needs=claims.Needs(partly=((None, 1.0), (0.0, None))),
+            needs=claims.Needs(partly_holds=0, partly_weakly=1),
         ),
         (),
         0,
