@@ -1,20 +1,12 @@
 """Claims of a paper as data: the sentence, the comparison, the rule that decides it.
 
-A reproduction declares each claim it tests as a :class:`Claim`: where in the paper it
-stands, the paper's sentence, the metric, the arms compared, the cells (for instance map x
-team size) it is judged in, and a rule object that both computes the verdict and writes
-the words that describe it, so the text of a report and the code that decides cannot
-drift apart. Every rule is a :class:`Rule`: it grades items (cells, curves) *holds*,
-*weak* or *fails*, and :class:`Needs` counts the grades into the outcome. :class:`Cells`
-rules compare two arms cell by cell (:class:`Means`, :class:`Paired`, :class:`Ratio`);
-:class:`Along` rules follow curves (:class:`Trend`, :class:`FallsFasterBelow`,
-:class:`FallsLess`, :class:`RisesAbove`); a few stand alone.
-
-An :class:`Interpretation` is a documented alternative reading of an ambiguous sentence
-of the paper, given as parameter overrides of the runs it changes. The claims are judged
-under the default reading and under each interpretation; :func:`robustness_section` shows,
-per claim, whether the verdict is ``robust`` or ``fragile``. Values are given to the rules
-as ``cell -> arm -> seed -> value`` (:data:`Values`); a rule never looks at anything else.
+A :class:`Claim` names where in the paper it stands, the paper's sentence, the metric, the
+arms and a rule object that computes the verdict and writes the words that describe it, so
+report and code cannot drift apart. A :class:`Rule` grades items (cells, curves) *holds*,
+*weak* or *fails* from ``cell -> arm -> seed -> value`` (:data:`Values`), and
+:class:`Needs` counts the grades into the outcome. An :class:`Interpretation` is another
+reading of a sentence of the paper, as run overrides; :func:`robustness_section` shows
+whether each verdict stays the same under every reading.
 """
 
 from __future__ import annotations
@@ -22,7 +14,7 @@ from __future__ import annotations
 import itertools
 import math
 import operator
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
@@ -40,12 +32,7 @@ Judgement = tuple[Outcome, str]
 HOLDS, WEAK, FAILS = 2, 1, 0
 """The grades of an item; ``None``: shown, not judged."""
 _MARKS = {HOLDS: "", WEAK: " (weak)", FAILS: " x", None: ""}
-_RELATIONS: dict[str, Callable[[float, float], bool]] = {
-    "<": operator.lt,
-    "<=": operator.le,
-    ">": operator.gt,
-    ">=": operator.ge,
-}
+_RELATIONS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
 
 
 def fmt(value: float | None, digits: int = 0) -> str:
@@ -240,18 +227,16 @@ class Ask:
 
 @dataclass(frozen=True, kw_only=True)
 class Rule:
-    """Decides a claim from its values and says how: :meth:`checks` grades the items,
-    :attr:`needs` counts the grades, :meth:`describe` is made of :meth:`what` and
-    :meth:`conditions`, the words of the rule's own fields. ``shown``: arms whose numbers
-    are shown beside, not judged; ``brief``: the evidence names only the items that do not
-    hold; ``also``: another pair of arms (another measure of the runs) whose count is cited."""
+    """Base of the rules: :meth:`checks` grades the items, :attr:`needs` (or :attr:`usual`)
+    counts them, :meth:`describe` says so from :meth:`what` and :meth:`conditions`.
+    ``shown``: arms shown beside, not judged; ``brief``: the evidence names only the items
+    that do not hold; ``also``: another pair of arms whose count is cited."""
 
     needs: Needs | None = None
     shown: tuple[str, ...] = ()
     brief: bool = False
     also: tuple[str, str] | None = None
     usual: ClassVar[Needs] = EVERY_HALF
-    """The needs when ``needs`` is ``None``."""
     item: ClassVar[str] = "cell"
 
     def what(self, first: str, second: str, metric: str) -> str:
@@ -323,13 +308,12 @@ class Pair:
 
 @dataclass(frozen=True, kw_only=True)
 class Cells(Rule):
-    """Base of the rules that compare ``first`` with each arm of ``seconds`` (``best``: with
-    the one with the lowest mean) cell by cell; cells without both arms are left out.
-    ``seeds``: ``all``, each arm over its seeds and the paired difference over those both
-    ran; ``common``, both over the seeds both ran (at least ``min_seeds``); ``unpaired``,
-    each over its own, no difference. In cells whose last key is in ``except_at`` the claim
-    is the opposite. ``members``: ``first`` names a :func:`family`, compare each member
-    (``each``) or its highest level (``top``)."""
+    """Base of the rules that compare ``first`` with each arm of ``seconds`` (``best``: the
+    one with the lowest mean) cell by cell, leaving out cells without both. ``seeds``:
+    ``all`` (each arm over its seeds, the paired difference over those both ran), ``common``
+    (both over the seeds both ran, at least ``min_seeds``) or ``unpaired`` (no difference).
+    ``except_at``: last cell keys where the claim is the opposite. ``members``: ``first``
+    names a :func:`family`; compare ``each`` member or the ``top`` level."""
 
     seeds: Literal["all", "common", "unpaired"] = "all"
     min_seeds: int = 1

@@ -296,6 +296,7 @@ def lines_figure(
     any, after it). ``panels``: ``panel -> arm -> x -> summary``."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter
 
     from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside
 
@@ -314,7 +315,7 @@ def lines_figure(
             xs_all |= {x for x, _ in kept}
             xs = np.array([x for x, _ in kept], dtype=np.float64)
             dodge = (i - len(arms) / 2) * 0.06  # arms side by side; on a log axis, in ratio
-            xs = xs * 10 ** (dodge / 3) if logx else xs + dodge
+            xs = xs * 10 ** (dodge / 8) if logx else xs + dodge
             means = np.array([s.mean for _, s in kept])
             below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
             above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
@@ -333,11 +334,11 @@ def lines_figure(
             )
         if log:
             ax.set_yscale("log")
-        ax.set_xticks(sorted(xs_all))
-        if logx:
+        if logx:  # ticks at the decades, labelled as numbers
             ax.set_xscale("log")
-            ax.set_xticks(sorted(xs_all), [f"{x:g}" for x in sorted(xs_all)], minor=False)
-            ax.minorticks_off()
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+        else:
+            ax.set_xticks(sorted(xs_all))
         ax.set_xlabel(xlabel, fontsize=8)
         ax.set_title(panel, fontsize=9)
         ax.tick_params(labelsize=7)

@@ -179,47 +179,28 @@ LABELS = {
 PAPER_RATIOS = {(f"w3={w3:g}",): p[0] / p[1] for w3, p in PAPER_TABLE4.items()}
 _COLUMNS = list(zip(*PAPER_TABLE4.values(), strict=True))  # by w3: without, with, their sds
 PAPER_COLUMNS = {WITHOUT: _COLUMNS[0], WITH: _COLUMNS[1]}
+_W3, _EVERY_WEAK = (CASE_WITH, CASE_WITHOUT), claims.EVERY_WEAK
 #: The paired difference's mean below 0 in every cell and its CI in at least half of them.
-MOSTLY_LOWER = claims.Paired("<", needs=claims.Needs(0.5, 1, partly_holds=None, partly_weakly=0.5))
-_W3 = (CASE_WITH, CASE_WITHOUT)
+_LOWER = claims.Paired("<", needs=claims.Needs(0.5, 1, partly_holds=None, partly_weakly=0.5))
+_STEPS = claims.Trend("steps", needs=_EVERY_WEAK)
+_TRACKING = claims.Ratio(">", 1, paper=PAPER_RATIOS, digits=1, needs=_EVERY_WEAK)
+_ALONG_W3 = claims.Needs(partly_holds=0, partly_weakly=1)  # or one falls at every step
+_W3_STEPS = claims.Trend(
+    "steps", along="cells", paper=PAPER_COLUMNS, shown=(PARTITIONS,), needs=_ALONG_W3
+)
+_BELOW_16 = claims.FallsFasterBelow(COMM_RANGE, "cell")  # 16: the paper's own r_c
 #: Claim id -> (values read, first arm, second arm, rule, further arms, digits).
 RULES: dict[str, tuple[str, str, str, claims.Rule, tuple[str, ...], int]] = {
     "fig11": ("diameter", *_W3, claims.Paired("<"), (), 2),
-    "fig12_team": (
-        *("time", CASE_RANDOM, CASE_WITHOUT),
-        claims.Trend("steps", needs=claims.EVERY_WEAK),
-        (CASE_WITH,),
-        0,
-    ),
-    "fig12_bidding": ("time", CASE_WITHOUT, CASE_RANDOM, MOSTLY_LOWER, (), 0),
-    "fig12_nearness": ("time_teams", *_W3, MOSTLY_LOWER, (), 0),
-    "fig13_bidding": ("distance", CASE_WITHOUT, CASE_RANDOM, MOSTLY_LOWER, (), 0),
-    "fig13_nearness": ("distance_teams", *_W3, MOSTLY_LOWER, (), 0),
-    "table4_tracking": (
-        *("table4", WITHOUT, WITH),
-        claims.Ratio(">", 1, paper=PAPER_RATIOS, digits=1, needs=claims.EVERY_WEAK),
-        (),
-        0,
-    ),
-    "table4_w3": (
-        *("table4", WITH, WITHOUT),
-        claims.Trend(
-            "steps",
-            along="cells",
-            paper=PAPER_COLUMNS,
-            shown=(PARTITIONS,),
-            needs=claims.Needs(partly_holds=0, partly_weakly=1),
-        ),
-        (),
-        0,
-    ),
+    "fig12_team": ("time", CASE_RANDOM, CASE_WITHOUT, _STEPS, (CASE_WITH,), 0),
+    "fig12_bidding": ("time", CASE_WITHOUT, CASE_RANDOM, _LOWER, (), 0),
+    "fig12_nearness": ("time_teams", *_W3, _LOWER, (), 0),
+    "fig13_bidding": ("distance", CASE_WITHOUT, CASE_RANDOM, _LOWER, (), 0),
+    "fig13_nearness": ("distance_teams", *_W3, _LOWER, (), 0),
+    "table4_tracking": ("table4", WITHOUT, WITH, _TRACKING, (), 0),
+    "table4_w3": ("table4", WITH, WITHOUT, _W3_STEPS, (), 0),
     "fig17_falls": ("fig17", CASE_WITHOUT, "", claims.Trend("rank", rho=0.6), (), 0),
-    "fig17_below16": (
-        *("fig17", CASE_WITHOUT, ""),
-        claims.FallsFasterBelow(COMM_RANGE, "cell"),  # 16: the paper's own r_c
-        (),
-        2,
-    ),
+    "fig17_below16": ("fig17", CASE_WITHOUT, "", _BELOW_16, (), 2),
     "fig17_nearness": ("fig17", *_W3, claims.FallsLess(), (), 0),
 }
 
