@@ -38,12 +38,8 @@ CITATION = (
 
 # ----------------------------------------------------------------------- settings
 
-#: §IV: "with the number of robots from one to three".
-TEAM_SIZES = (1, 2, 3)
-QUICK_TEAM_SIZES = (2, 3)
-#: Not given in the paper: ours.
-SEEDS = tuple(range(1, 11))
-QUICK_SEEDS = (1, 2)
+TEAM_SIZES, QUICK_TEAM_SIZES = (1, 2, 3), (2, 3)  # §IV: "from one to three"
+SEEDS, QUICK_SEEDS = tuple(range(1, 11)), (1, 2)  # not given in the paper: ours
 #: Metres per cell of the real maps (their files have 0.05 m): a robot-sized cell.
 CELL_SIZE_M = 0.2
 #: Not given in the paper: a Kinect-like range, the project's usual 3 m.
@@ -113,10 +109,8 @@ def map_setups(quick: bool) -> list[MapSetup]:
 
 # ------------------------------------------------------------------------ arms
 
-CENTRALISED = "centralised"
-DECENTRALISED = "decentralised"
-RRT = "rrt"
-NO_OCCUPANCY = "no-occupancy"
+CENTRALISED, DECENTRALISED = "centralised", "decentralised"
+RRT, NO_OCCUPANCY = "rrt", "no-occupancy"
 
 
 def timer_arm(period: int) -> str:
@@ -131,14 +125,7 @@ ARM_LABELS = {
     **{timer_arm(p): f"decentralised, time-triggered every {p} ticks" for p in TIMER_PERIODS},
     NO_OCCUPANCY: "decentralised, event-based, no occupancy (lambda_f ~ 0)",
 }
-ARM_COLOURS = {
-    CENTRALISED: "#1f77b4",
-    DECENTRALISED: "#bcbd22",
-    RRT: "#8c564b",
-    timer_arm(TIMER_PERIODS[0]): "#d62728",
-    timer_arm(TIMER_PERIODS[1]): "#ff7f0e",
-    NO_OCCUPANCY: "#7f7f7f",
-}
+ARM_COLOURS = dict(zip(ARMS, ("#1f77b4", "#bcbd22", "#8c564b", "#d62728", "#ff7f0e", "#7f7f7f")))
 
 
 def arm_of(row: Mapping[str, Any]) -> str:
@@ -437,7 +424,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
 
     def arm_tab(metric_values: Values, digits: int = 0, marks: Any = None) -> Lines:
         label = lambda c: (labels.get(c[0], c[0]), c[1])  # noqa: E731
-        return [*render.arm_table(metric_values, ARMS, ["map", "robots"], label, digits, marks), ""]
+        return render.arm_table(metric_values, ARMS, ["map", "robots"], label, digits, marks)
 
     def figure(metric_values: Values, name: str, ylabel: str, title: str, log: bool) -> Lines:
         panels = render.panels_of(metric_values, arms, lambda c: labels.get(c[0], str(c[0])))
@@ -449,61 +436,42 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
     )
     lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
-    lines += _settings(quick, setups)
-    arm_rows = [(f"`{a}`", ARM_LABELS[a]) for a in arms]
-    lines += ["## Arms", "", *render.table(["arm", "what"], arm_rows), ""]
-    lines += [
+    coordination = ("coordination bytes per run", "Coordination traffic (all but map sharing)")
+    largest, bars = _bytes_by_type(rows, quick, list(values["time"]), arms)
+    lines += render.blocks(
+        _settings(quick, setups),
+        "## Arms",
+        render.table(["arm", "what"], [(f"`{a}`", ARM_LABELS[a]) for a in arms]),
         "## Exploration time (§IV, abstract)",
-        "",
-        f'Paper: "{PAPER_QUICK}" compared with the centralised market; '
-        f'"{PAPER_EVENT_FASTER}" (abstract; §IV of our copy gives no numbers; '
-        f"{PAPER_ENVIRONMENTS} environments, {PAPER_TEAM_SIZES[0]} to {PAPER_TEAM_SIZES[-1]} "
-        "robots).",
-        "",
+        f'Paper: "{PAPER_QUICK}" compared with the centralised market; "{PAPER_EVENT_FASTER}" '
+        f"(abstract; §IV of our copy gives no numbers; {PAPER_ENVIRONMENTS} environments, "
+        f"{PAPER_TEAM_SIZES[0]} to {PAPER_TEAM_SIZES[-1]} robots).",
         "Ours: T99 (ticks), mean (sd; 95% CI; n); `*` = some runs never reached 99% and "
         "count with their length.",
-        "",
-        *arm_tab(values["time"], 0, render.unfinished(values["reached"])),
-        *figure(values["time"], "time.png", "T99 (ticks)", "Exploration time", False),
+        arm_tab(values["time"], 0, render.unfinished(values["reached"])),
+        figure(values["time"], "time.png", "T99 (ticks)", "Exploration time", False),
         "## Negotiation traffic (abstract, §I, §III.B)",
-        "",
         f'Paper: "{PAPER_EVENT_LESS_DATA}"; "{PAPER_MINIMAL}" (read from the text; no numbers).',
-        "",
         "Ours: bytes of `weight_request` + `weights` per run, mean (sd; 95% CI; n):",
-        "",
-        *arm_tab(teams["negotiation_bytes"]),
+        arm_tab(teams["negotiation_bytes"]),
         "Negotiation messages per run (`weight_request` + `weights`):",
-        "",
-        *arm_tab(teams["negotiation_messages"]),
+        arm_tab(teams["negotiation_messages"]),
         "Coordination bytes per run (every type but map sharing; `burgard`: `status` + `assign`):",
-        "",
-        *arm_tab(teams["coordination_bytes"]),
+        arm_tab(teams["coordination_bytes"]),
         "All bytes per run (with map sharing):",
-        "",
-        *arm_tab(teams["bytes_total"]),
-    ]
-    title = "Coordination traffic (all but map sharing)"
-    lines += figure(
-        teams["coordination_bytes"],
-        "coordination_bytes.png",
-        "coordination bytes per run",
-        title,
-        True,
+        arm_tab(teams["bytes_total"]),
+        figure(teams["coordination_bytes"], "coordination_bytes.png", *coordination, True),
     )
-    largest, bars = _bytes_by_type(rows, quick, list(values["time"]), arms)
     if bars:
         title = f"Bytes per run by message type, {largest} robots (mean over seeds)"
         plot_bytes_by_type(bars, out / "bytes_by_type.png", title=title, xlabel="map, arm")
         lines += ["![bytes by message type](bytes_by_type.png)", ""]
-    lines += [
+    lines += render.blocks(
         "## Dispersion (abstract)",
-        "",
         f'Paper: "{PAPER_DISPERSED}" (read from the text; no numbers).',
-        "",
         "Ours: mean group diameter (cells), mean (sd; 95% CI; n):",
-        "",
-        *arm_tab(teams["diameter"], 1),
-    ]
+        arm_tab(teams["diameter"], 1),
+    )
     return render.write_report(out, lines, CLAIMS, teams)
 
 

@@ -212,9 +212,18 @@ def summary_cell(s: Summary | None, digits: int = 0, flag: str = "") -> str:
     return f"{fmt(s.mean, digits)}{flag} (sd {fmt(s.sd, digits)}; CI {interval}; n {s.n})"
 
 
-def diff_cell(s: Summary, digits: int = 0) -> str:
-    """A paired difference: ``mean [low, high] (n)``."""
-    return f"{fmt(s.mean, digits)} [{fmt(s.ci_low, digits)}, {fmt(s.ci_high, digits)}] (n {s.n})"
+def blocks(*parts: str | Sequence[str]) -> Lines:
+    """Markdown blocks, a blank line after each: a string is a paragraph or a heading, a
+    list the lines of one block (a table, a figure's link).
+
+    >>> blocks("## A", ["| x |", "|---|"], [])
+    ['## A', '', '| x |', '|---|', '']
+    """
+    out: Lines = []
+    for part in parts:
+        lines = [part] if isinstance(part, str) else list(part)
+        out += lines + [""] if lines and lines[-1] else lines
+    return out
 
 
 def table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Lines:
@@ -279,8 +288,13 @@ def write_report(
 # -------------------------------------------------------------------------- figures
 
 
+Panels = Mapping[str, Mapping[str, Mapping[Any, Summary]]]
+"""``panel -> arm -> x -> summary``."""
+_LINE_STYLE: dict[str, Any] = {"marker": "o", "ms": 4, "lw": 1.3, "capsize": 2}
+
+
 def lines_figure(
-    panels: Mapping[str, Mapping[str, Mapping[Any, Summary]]],
+    panels: Panels,
     path: Path,
     *,
     xlabel: str,
@@ -293,7 +307,7 @@ def lines_figure(
     """One subplot per panel: mean against x, one line per arm, 95% CI bars, the
     legend right of the panels; ``log`` / ``logx``: a logarithmic y / x axis. With one
     panel the title stands above its axes, clear of the legend (the panel's name, if
-    any, after it). ``panels``: ``panel -> arm -> x -> summary``."""
+    any, after it)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.ticker import FuncFormatter
@@ -319,19 +333,9 @@ def lines_figure(
             means = np.array([s.mean for _, s in kept])
             below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
             above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
-            if log:
-                below = np.minimum(below, means * 0.999)
-            ax.errorbar(
-                xs,
-                means,
-                yerr=np.vstack([below, above]),
-                color=colours.get(arm, "#000000"),
-                marker="o",
-                ms=4,
-                lw=1.3,
-                capsize=2,
-                label=arm,
-            )
+            below = np.minimum(below, means * 0.999) if log else below
+            yerr, colour = np.vstack([below, above]), colours.get(arm, "#000000")
+            ax.errorbar(xs, means, yerr=yerr, color=colour, label=arm, **_LINE_STYLE)
         if log:
             ax.set_yscale("log")
         if logx:  # ticks at the decades, labelled as numbers
@@ -357,14 +361,7 @@ def lines_figure(
     return path
 
 
-def figure(
-    out: Path,
-    name: str,
-    panels: Mapping[str, Mapping[str, Mapping[Any, Summary]]],
-    *,
-    title: str,
-    **axes: Any,
-) -> Lines:
+def figure(out: Path, name: str, panels: Panels, *, title: str, **axes: Any) -> Lines:
     """:func:`lines_figure` into ``out/name`` and the report's link to it (nothing when
     there is nothing to draw)."""
     drawn = lines_figure(panels, Path(out) / name, title=title, **axes)

@@ -334,39 +334,26 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         f"{' and '.join(f'{r * CELL_SIZE_M:g} m' for r in QUICK_RANGES)}, "
         f"{' and '.join(map(str, QUICK_TEAM_SIZES))} robots, {len(QUICK_SEEDS)} seeds"
     )
-    flags = render.unfinished(values["complete"])
     lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
-    lines += [
+    lines += render.blocks(
         f"The paper compares the time to a complete map of `{VAZQUEZ}` with Yamauchi's "
         f"`{YAMAUCHI}` (Figs. 6-11) and of `{VAZQUEZ}` across ranges (Fig. 12) in plots whose "
         "values are not in the text: its side is its settings and the results its text states.",
-        "",
-        *render.settings_table(SETTINGS_ROWS),
+        render.settings_table(SETTINGS_ROWS),
         "## Environments",
-        "",
         "The paper's Fig. 5 is not in our copy; our `office` generator (rooms on both sides of "
         "corridors, doors 10 cm, walls 5 cm) at the size whose explorable area is the paper's:",
-        "",
-        *_map_table(rows, out),
-        "",
+        _map_table(rows, out),
         "## Figs. 6-11: time to complete",
-        "",
         "T100 (ticks), mean (sd; 95% CI; n) over each method's seeds (`*`: a run did not "
         "complete and counts with its last tick, a lower bound). Paper: plots only.",
-        "",
-        *render.arm_table(values["time"], arms, cells, flags=flags),
-        "",
+        render.arm_table(values["time"], arms, cells, flags=render.unfinished(values["complete"])),
         "Share of the time the team was one sub-network (not in the paper):",
-        "",
-        *render.arm_table(values["connected"], arms, cells, digits=2),
-        "",
+        render.arm_table(values["connected"], arms, cells, digits=2),
         "## Fig. 12: vazquez-network under the three ranges, T100 (ticks)",
-        "",
-        *render.arm_table(values["ranges"], CURVES, ["map", "robots"]),
-        "",
+        render.arm_table(values["ranges"], CURVES, ["map", "robots"]),
         "## Figures",
-        "",
-    ]
+    )
     for label, spec in MAPS.items():  # Figs. 6-11: a panel per range
         part = {c: by_arm for c, by_arm in values["time"].items() if c[0] == label}
         panels = render.panels_of(part, arms, lambda c: f"range {c[1]}")
