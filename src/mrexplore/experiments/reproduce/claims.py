@@ -454,7 +454,7 @@ class Paired(Cells):
     def conditions(self) -> tuple[str, str]:
         if self.relation == "=":
             close = f"|its mean| is within {self.tolerance:.0%} of the second arm's mean"
-            return f"{close} and its 95% CI holds 0", "one of the two"
+            return f"{close} and its 95% CI holds 0", "one of the two holds"
         side = "below" if self.relation == "<" else "above"
         return f"its 95% CI is {side} 0", f"its mean is {side} 0"
 
@@ -652,10 +652,11 @@ class Trend(Along):
     def what(self, first: str, second: str, metric: str) -> str:
         if self.kind in ("ratio", "gap"):
             of = "ratio" if self.kind == "ratio" else "difference and ratio"
-            means = f"the mean {metric} of `{first}` and of `{second}` (the seeds both ran)"
+            means = f"the mean {metric} of `{first}` over that of `{second}` (seeds both ran)"
             return f"{of} of {means} against {self.axis(first)}"
         arms = " / ".join(f"`{a}`" for a in (first, *second.split(" / ")) if a)
         arms = f"each of {arms}" if " / " in arms else arms
+        arms = f"`{first} *`" if self.along == "family" else arms
         paper = " (beside the paper's numbers)" if self.paper else ""
         return f"mean {metric} of {arms} against {self.axis(first)}{paper}"
 
@@ -673,7 +674,7 @@ class Trend(Along):
         }
         if self.kind == "rank" and self.paired:
             sure = f"first - last has a paired 95% CI {'above' if way == 'falls' else 'below'} 0"
-            return f"{rho} and {sure}", "one of the two, or that difference's mean"
+            return f"{rho} and {sure}", "one of the two holds, or that mean is above 0"
         return words[self.kind]
 
     def checks(self, ask: Ask) -> Iterator[Check]:
@@ -769,7 +770,7 @@ class FallsFasterBelow(Along):
             f"(m({at}) - m(x_max)) / (x_max - {at})",
         )
         gains = f"gain per {self.unit} below {at} = {below}, above = {above}"
-        return f"mean {metric} of `{first}` against {self.axis(first)} (x): {gains}"
+        return f"mean {metric} of `{first}` against {self.axis(first)}, x the key: {gains}"
 
     def conditions(self) -> tuple[str, str]:
         return "the gain below is positive and larger than above", ""
@@ -895,7 +896,7 @@ class AtEnds(Rule):
         return f"mean {metric} of {self.column} along `{first} *`: {ends}"
 
     def conditions(self) -> tuple[str, str]:
-        return "both hold", "one holds"
+        return "both hold", "at least one holds"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         means = family_means(ask.values.get((self.column,), {}), ask.first)
@@ -924,7 +925,8 @@ class NearPaper(Rule):
         return f"mean {metric} of `{first} *` at the paper's levels"
 
     def conditions(self) -> tuple[str, str]:
-        return f"it falls strictly, each within a factor {self.factor:g} of the paper's", "it falls"
+        within = f"each within a factor {self.factor:g} of the paper's"
+        return f"it falls strictly, {within}", "it falls strictly"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         for cell, arms in ask.values.items():

@@ -12,6 +12,7 @@ and :func:`write_report`, which ends every report with the claims' verdicts.
 from __future__ import annotations
 
 import math
+import textwrap
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -349,14 +350,12 @@ def lines_figure(
         ax.grid(True, alpha=0.3)
     figure_legend_outside(fig, axes, fontsize=7)
     axes[0].set_ylabel(ylabel, fontsize=8)
-    panel = next(iter(panels))
-    one = len(panels) == 1 and panel not in ("", title)  # one panel: its name joins the title
-    heading = f"{title}: {panel}" if one else title
-    heading += "\n(mean over seeds, error bars: 95% CI)"
+    subtitle, panel = "(mean over seeds, error bars: 95% CI)", next(iter(panels))
     if len(panels) > 1:
-        fig.suptitle(heading, fontsize=10)
-    else:
-        axes[0].set_title(heading, fontsize=9)
+        fig.suptitle(f"{title}\n{subtitle}", fontsize=10)
+    else:  # above the axes, as wide as they are: clear of the legend at their right
+        heading = f"{title}: {panel}" if panel not in ("", title) else title
+        axes[0].set_title(f"{textwrap.fill(heading, 40)}\n{subtitle}", fontsize=9)
     fig.savefig(path, format="png")
     return path
 
