@@ -173,7 +173,8 @@ class Needs:
         def met(share: float | None, count: int) -> bool:
             return share is not None and count > 0 and count / len(grades) >= share
 
-        if all(t is None or met(t, c) for t, c in zip((self.holds, self.weakly), counts)):
+        reproduced = zip((self.holds, self.weakly), counts, strict=True)
+        if all(t is None or met(t, c) for t, c in reproduced):
             return "reproduced"
         partly = zip((self.partly_holds, self.partly_weakly), counts, strict=True)
         return "partly" if any(met(t, c) for t, c in partly) else "not reproduced"
@@ -238,13 +239,14 @@ class Rule:
     also: tuple[str, str] | None = None
     usual: ClassVar[Needs] = EVERY_HALF
     item: ClassVar[str] = "cell"
+    grade_words: ClassVar[tuple[str, str]] = ("it holds", "")
+    """What holds and what holds weakly (``""``: no weak grade), when the fields do not say."""
 
     def what(self, first: str, second: str, metric: str) -> str:
         raise NotImplementedError
 
     def conditions(self) -> tuple[str, str]:
-        """What holds and what holds weakly (``""``: the rule has no weak grade)."""
-        return "it holds", ""
+        return self.grade_words
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         raise NotImplementedError
@@ -479,7 +481,8 @@ class Ratio(Cells):
     >>> values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
     >>> Ratio("<=", 1.25).judge(values, "a", ["b"], 0)[1]
     'holds in 1/2 cells; m/1r: 11 vs 10 (ratio 1.10); m/5r: 15 vs 10 (ratio 1.50) x'
-    >>> Ratio(">", 1, paper={("m", 1): 1.0, ("m", 5): 1.0}, digits=1).judge(values, "a", ["b"], 0)[1]
+    >>> paper = {("m", 1): 1.0, ("m", 5): 1.0}
+    >>> Ratio(">", 1, paper=paper, digits=1).judge(values, "a", ["b"], 0)[1]
     'holds in 2/2 cells, at least weakly in 2/2; m/1r: 11 vs 10 (ratio 1.1, paper 1.0); m/5r: \
 15 vs 10 (ratio 1.5, paper 1.0)'
     """
@@ -762,6 +765,7 @@ class FallsFasterBelow(Along):
 
     at: float
     unit: str = "unit"
+    grade_words: ClassVar = ("the gain below is positive and larger than above", "")
 
     def what(self, first: str, second: str, metric: str) -> str:
         at = f"{self.at:g}"
@@ -771,9 +775,6 @@ class FallsFasterBelow(Along):
         )
         gains = f"gain per {self.unit} below {at} = {below}, above = {above}"
         return f"mean {metric} of `{first}` against {self.axis(first)}, x the key: {gains}"
-
-    def conditions(self) -> tuple[str, str]:
-        return "the gain below is positive and larger than above", ""
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         for name, m in self.means(ask, ask.first).items():
@@ -795,12 +796,11 @@ class FallsLess(Along):
     ('reproduced', 'holds in 1/1 curves; t: `a` falls by 1 vs `b` by 4')
     """
 
+    grade_words: ClassVar = ("the fall of the first is smaller", "")
+
     def what(self, first: str, second: str, metric: str) -> str:
         means = f"the mean {metric} of `{first}` and of `{second}`"
         return f"fall m(x_min) - m(x_max) of {means} against {self.axis(first)}"
-
-    def conditions(self) -> tuple[str, str]:
-        return "the fall of the first is smaller", ""
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         arms = (ask.first, ask.seconds[0])
@@ -890,13 +890,11 @@ class AtEnds(Rule):
     high: float
     low: float
     usual: ClassVar[Needs] = EVERY_WEAK
+    grade_words: ClassVar = ("both hold", "at least one holds")
 
     def what(self, first: str, second: str, metric: str) -> str:
         ends = f">= {self.high:g} at the lowest level, <= {self.low:g} at the highest"
         return f"mean {metric} of {self.column} along `{first} *`: {ends}"
-
-    def conditions(self) -> tuple[str, str]:
-        return "both hold", "at least one holds"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         means = family_means(ask.values.get((self.column,), {}), ask.first)

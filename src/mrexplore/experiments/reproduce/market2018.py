@@ -125,7 +125,8 @@ ARM_LABELS = {
     **{timer_arm(p): f"decentralised, time-triggered every {p} ticks" for p in TIMER_PERIODS},
     NO_OCCUPANCY: "decentralised, event-based, no occupancy (lambda_f ~ 0)",
 }
-ARM_COLOURS = dict(zip(ARMS, ("#1f77b4", "#bcbd22", "#8c564b", "#d62728", "#ff7f0e", "#7f7f7f")))
+_PALETTE = ("#1f77b4", "#bcbd22", "#8c564b", "#d62728", "#ff7f0e", "#7f7f7f")
+ARM_COLOURS = dict(zip(ARMS, _PALETTE, strict=True))
 
 
 def arm_of(row: Mapping[str, Any]) -> str:

@@ -223,7 +223,7 @@ def blocks(*parts: str | Sequence[str]) -> Lines:
     out: Lines = []
     for part in parts:
         lines = [part] if isinstance(part, str) else list(part)
-        out += lines + [""] if lines and lines[-1] else lines
+        out += [*lines, ""] if lines and lines[-1] else lines
     return out
 
 
