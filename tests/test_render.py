@@ -11,6 +11,7 @@ import pytest
 from mrexplore.experiments.reproduce import render
 from mrexplore.experiments.reproduce.claims import Claim, Means
 from mrexplore.experiments.stats import summarize_metric
+from mrexplore.viz.plots import plot_arm_lines
 
 
 def _rows() -> list[dict[str, Any]]:
@@ -98,7 +99,7 @@ def test_experiment_builds_its_sweep() -> None:
     assert len(runs) == 4 and sweeps["e"].curves_every == 10
 
 
-def test_lines_figure_holds_its_data_and_the_legend_is_outside(
+def test_arm_lines_hold_their_data_and_the_legend_is_outside(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from matplotlib.figure import Figure
@@ -113,13 +114,13 @@ def test_lines_figure_holds_its_data_and_the_legend_is_outside(
     for log in (False, True):
         panels = render.panels_of(values, ["b", "a"])
         assert list(panels["p"]) == ["b", "a"]
-        path = render.lines_figure(
+        path = plot_arm_lines(
             panels, tmp_path / "f.png", xlabel="x", ylabel="y", title="T", colours={}, log=log
         )
         assert path == tmp_path / "f.png"
     assert (
         len(saved) == 2
-        and render.lines_figure({}, tmp_path / "g.png", xlabel="", ylabel="", title="", colours={})
+        and plot_arm_lines({}, tmp_path / "g.png", xlabel="", ylabel="", title="", colours={})
         is None
     )
     for fig in saved:

@@ -346,7 +346,7 @@ def _name(cell: Any) -> str:
 
 
 def _xs(arms: Mapping[str, Summary], flat: Sequence[str] = ()) -> dict[str, Any]:
-    """A :func:`render.lines_figure` panel: ``SR`` arms by rate, ``flat`` arms level."""
+    """A :func:`render.figure` panel: ``SR`` arms by rate, ``flat`` arms level."""
     xs = {level(a): arms[a] for a in family(arms, SR)}
     return {"polygon": xs, **{a: dict.fromkeys(xs, arms[a]) for a in flat if a in arms}}
 

@@ -5,21 +5,18 @@ fixed settings, grid and seeds), reads its runs back with :func:`tabulate` (metr
 functions of a run row, grouped ``cell -> arm -> seed``: the
 :data:`~mrexplore.experiments.reproduce.claims.Values` its claims judge), and writes
 ``report.md`` from the pieces here: :func:`report_head`, :func:`settings_table`,
-:func:`arm_table` (mean, sd, 95% CI and n per cell and arm), :func:`lines_figure`
+:func:`arm_table` (mean, sd, 95% CI and n per cell and arm), :func:`figure`
 and :func:`write_report`, which ends every report with the claims' verdicts.
 """
 
 from __future__ import annotations
 
 import math
-import textwrap
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from mrexplore.experiments.reproduce.claims import CellKey, Claim, Values, claims_section, fmt
 from mrexplore.experiments.stats import Summary, summarize_metric
@@ -290,80 +287,15 @@ def write_report(
 
 
 Panels = Mapping[str, Mapping[str, Mapping[Any, Summary]]]
-"""``panel -> arm -> x -> summary``."""
-_LINE_STYLE: dict[str, Any] = {"marker": "o", "ms": 4, "lw": 1.3, "capsize": 2}
-
-
-def lines_figure(
-    panels: Panels,
-    path: Path,
-    *,
-    xlabel: str,
-    ylabel: str,
-    title: str,
-    colours: Mapping[str, str],
-    log: bool = False,
-    logx: bool = False,
-) -> Path | None:
-    """One subplot per panel: mean against x, one line per arm, 95% CI bars, the
-    legend right of the panels; ``log`` / ``logx``: a logarithmic y / x axis. With one
-    panel the title stands above its axes, clear of the legend (the panel's name, if
-    any, after it)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    from matplotlib.ticker import FuncFormatter
-
-    from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside
-
-    if not panels:
-        return None
-    fig = Figure(figsize=(3.6 * len(panels) + LEGEND_WIDTH_IN, 3.6), dpi=110, layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, len(panels), squeeze=False)[0]
-    for ax, (panel, arms) in zip(axes, panels.items(), strict=True):
-        xs_all: set[Any] = set()
-        for i, (arm, points) in enumerate(arms.items()):
-            kept = [(x, s) for x, s in points.items() if math.isfinite(s.mean)]
-            kept = [(x, s) for x, s in kept if s.mean > 0] if log else kept
-            if not kept:
-                continue
-            xs_all |= {x for x, _ in kept}
-            xs = np.array([x for x, _ in kept], dtype=np.float64)
-            dodge = (i - len(arms) / 2) * 0.06  # arms side by side; on a log axis, in ratio
-            xs = xs * 10 ** (dodge / 8) if logx else xs + dodge
-            means = np.array([s.mean for _, s in kept])
-            below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
-            above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
-            below = np.minimum(below, means * 0.999) if log else below
-            yerr, colour = np.vstack([below, above]), colours.get(arm, "#000000")
-            ax.errorbar(xs, means, yerr=yerr, color=colour, label=arm, **_LINE_STYLE)
-        if log:
-            ax.set_yscale("log")
-        if logx:  # ticks at the decades, labelled as numbers
-            ax.set_xscale("log")
-            ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
-        else:
-            ax.set_xticks(sorted(xs_all))
-        ax.set_xlabel(xlabel, fontsize=8)
-        ax.set_title(panel, fontsize=9)
-        ax.tick_params(labelsize=7)
-        ax.grid(True, alpha=0.3)
-    figure_legend_outside(fig, axes, fontsize=7)
-    axes[0].set_ylabel(ylabel, fontsize=8)
-    subtitle, panel = "(mean over seeds, error bars: 95% CI)", next(iter(panels))
-    if len(panels) > 1:
-        fig.suptitle(f"{title}\n{subtitle}", fontsize=10)
-    else:  # above the axes, as wide as they are: clear of the legend at their right
-        heading = f"{title}: {panel}" if panel not in ("", title) else title
-        axes[0].set_title(f"{textwrap.fill(heading, 40)}\n{subtitle}", fontsize=9)
-    fig.savefig(path, format="png")
-    return path
+"""``panel -> arm -> x -> summary``: a figure of :func:`~mrexplore.viz.plots.plot_arm_lines`."""
 
 
 def figure(out: Path, name: str, panels: Panels, *, title: str, **axes: Any) -> Lines:
-    """:func:`lines_figure` into ``out/name`` and the report's link to it (nothing when
-    there is nothing to draw)."""
-    drawn = lines_figure(panels, Path(out) / name, title=title, **axes)
+    """:func:`~mrexplore.viz.plots.plot_arm_lines` into ``out/name`` and the report's link
+    to it (nothing when there is nothing to draw)."""
+    from mrexplore.viz.plots import plot_arm_lines
+
+    drawn = plot_arm_lines(panels, Path(out) / name, title=title, **axes)
     return [f"![{title}]({name})", ""] if drawn else []
 
 
@@ -373,7 +305,7 @@ def panels_of(
     panel: Callable[[CellKey], str] = lambda c: str(c[0]),
     x: Callable[[CellKey], Any] = lambda c: c[-1],
 ) -> dict[str, dict[str, dict[Any, Summary]]]:
-    """:func:`lines_figure` input: ``panel -> arm -> x -> summary``, arms in the
+    """:func:`figure` input: ``panel -> arm -> x -> summary``, arms in the
     order of ``arms`` (the default panel: the cell's first key, x: its last)."""
     out: dict[str, dict[str, dict[Any, Summary]]] = {}
     for c, by_arm in summaries(values).items():
