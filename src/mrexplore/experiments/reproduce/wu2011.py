@@ -193,77 +193,52 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, claims.Values]
     }
 
 
-#: KME's mean the lowest of the strategies' (but, ``LOWEST_BUT``, with these team sizes).
-LOWEST = claims.Means("<", best=True)
-LOWEST_BUT = lambda sizes: claims.Means("<", best=True, except_at=sizes)  # noqa: E731
+#: ``id | where | our statement | the paper's sentence (§V.C)``, in the report's order.
+CLAIM_WORDS = render.text_rows("""
+fewer_robots | Fig. 6 | the more robots, the lower the WTV of every approach (unstructured,
+  together) | The WTV curves show that the more robots, the lower the WTVs of all approaches.
+fig6_lowest | Fig. 6 | with more than two robots KME has the lowest WTV (unstructured, together)
+  | When more than two robots are utilized, KME has the lowest WTV during the exploration
+fig6_final | Fig. 6 | the final WTV of KME is the smallest except with two robots (unstructured,
+  together) | WTV_final of regions (the value where each curve terminates) with KME is also the
+  smallest except for the two-robot case
+separate_lower | Fig. 7 vs 6 | every technique's WTV is lower with separate starts than with
+  starts together | The WTV curves of all techniques with the separate scheme are lower than the
+  ones with the together scheme.
+fig7_lowest | Fig. 7 | with separate starts KME again has the lowest WTV (unstructured, more than
+  two robots) | With the separate scheme, KME is again superior to the other methods.
+fig8_lowest | Fig. 8 | KME has the lowest EPV (most similar speeds) with 2-8 robots (unstructured,
+  separate) | with 2, 4, 6, and 8 robots, the eight regions are explored at a similar speed with
+  KME
+six_combinations | §V.C | KME has the lowest WTV with more than two robots in all six maps x
+  schemes | The same trend can be found in the six combinations of maps and starting schemes.
+zlot | §V.C | Zlot's method is not superior to Yamauchi's and Burgard's in WTV and EPV | Zlot's
+  algorithm behaves like [3]-[5] with respect to the WTV and EPV ... its solution is not
+  superior to [3]-[5]
+""")
+_LOWEST = claims.Means("<", best=True)  # KME's mean the lowest of the strategies'
+_FINAL = claims.Means("<", best=True, except_at=PAPER_KME_FINAL_NOT_LOWEST)
+_UNPAIRED = claims.Means("<", seeds="unpaired", brief=True)  # one seed is not one set-up
+#: Claim id -> the values read, the rule, the arms (the first against the others).
+RULES: dict[str, tuple[str, claims.Rule, tuple[str, ...]]] = {
+    "fewer_robots": ("wtv_time/fig6", claims.Trend("steps", needs=claims.EVERY_WEAK), STRATEGIES),
+    "fig6_lowest": ("wtv_time/fig6/teams", _LOWEST, STRATEGIES),
+    "fig6_final": ("wtv_final/fig6", _FINAL, STRATEGIES),
+    "separate_lower": ("wtv_time/schemes", _UNPAIRED, STARTS[::-1]),
+    "fig7_lowest": ("wtv_time/fig7/teams", _LOWEST, STRATEGIES),
+    "fig8_lowest": ("epv_time/fig8", _LOWEST, STRATEGIES),
+    "six_combinations": ("wtv_time/teams", claims.Means("<", best=True, brief=True), STRATEGIES),
+    "zlot": ("wtv_epv_time", claims.NotBelowAll(brief=True), ("zlot-market", *STRATEGIES[1:3])),
+}
 
 
-def _claim(spec: tuple[Any, ...], statement: str, sentence: str) -> claims.Claim:
-    """``spec``: id, where, values read, rule[, arms: the first against the others]."""
-    id_, where, values, rule, *arms = spec
-    first, second, *seconds = arms[0] if arms else STRATEGIES
+def _claim(id_: str, where: str, statement: str, sentence: str) -> claims.Claim:
+    values, rule, (first, second, *seconds) = RULES[id_]
     head = (id_, where, statement, sentence, values, LABELS[values.split("/")[0]], first, second)
     return claims.Claim(*head, rule, int(values.startswith("epv")), tuple(seconds))
 
 
-#: Our words for each claim and the paper's sentence (§V.C).
-CLAIMS = (
-    _claim(
-        ("fewer_robots", "Fig. 6", "wtv_time/fig6", claims.Trend("steps", needs=claims.EVERY_WEAK)),
-        "the more robots, the lower the WTV of every approach (unstructured, together)",
-        "The WTV curves show that the more robots, the lower the WTVs of all approaches.",
-    ),
-    _claim(
-        ("fig6_lowest", "Fig. 6", "wtv_time/fig6/teams", LOWEST),
-        "with more than two robots KME has the lowest WTV (unstructured, together)",
-        "When more than two robots are utilized, KME has the lowest WTV during the exploration",
-    ),
-    _claim(
-        ("fig6_final", "Fig. 6", "wtv_final/fig6", LOWEST_BUT(PAPER_KME_FINAL_NOT_LOWEST)),
-        "the final WTV of KME is the smallest except with two robots (unstructured, together)",
-        "WTV_final of regions (the value where each curve terminates) with KME is also the "
-        "smallest except for the two-robot case",
-    ),
-    _claim(
-        (
-            "separate_lower",
-            "Fig. 7 vs 6",
-            "wtv_time/schemes",
-            claims.Means("<", seeds="unpaired", brief=True),
-            STARTS[::-1],
-        ),
-        "every technique's WTV is lower with separate starts than with starts together",
-        "The WTV curves of all techniques with the separate scheme are lower than the ones with "
-        "the together scheme.",
-    ),
-    _claim(
-        ("fig7_lowest", "Fig. 7", "wtv_time/fig7/teams", LOWEST),
-        "with separate starts KME again has the lowest WTV (unstructured, more than two robots)",
-        "With the separate scheme, KME is again superior to the other methods.",
-    ),
-    _claim(
-        ("fig8_lowest", "Fig. 8", "epv_time/fig8", LOWEST),
-        "KME has the lowest EPV (most similar speeds) with 2-8 robots (unstructured, separate)",
-        "with 2, 4, 6, and 8 robots, the eight regions are explored at a similar speed with KME",
-    ),
-    _claim(
-        ("six_combinations", "§V.C", "wtv_time/teams", claims.Means("<", best=True, brief=True)),
-        "KME has the lowest WTV with more than two robots in all six maps x schemes",
-        "The same trend can be found in the six combinations of maps and starting schemes.",
-    ),
-    _claim(
-        (
-            "zlot",
-            "§V.C",
-            "wtv_epv_time",
-            claims.NotBelowAll(brief=True),
-            ("zlot-market", *STRATEGIES[1:3]),
-        ),
-        "Zlot's method is not superior to Yamauchi's and Burgard's in WTV and EPV",
-        "Zlot's algorithm behaves like [3]-[5] with respect to the WTV and EPV ... its "
-        "solution is not superior to [3]-[5]",
-    ),
-)
+CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 
 #: Sensing every tick, a target is usually seen before it is reached: our `kme`,
 #: `nearest-frontier` and `burgard` then re-plan (`replan_on_target_explored`, default;
