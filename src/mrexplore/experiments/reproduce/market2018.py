@@ -76,34 +76,18 @@ def map_setups(quick: bool) -> list[MapSetup]:
     >>> [m.key for m in map_setups(True)]
     ['intel', 'house', 'office']
     """
-    office = MapSetup(
-        "office",
-        "office generator",
-        {
-            "map": "office",
-            "size": "80x56" if quick else "120x80",
-            "map_seed": 1,
-            "sensor_range": SENSOR_RANGE_M / CELL_SIZE_M,
-            "max_ticks": 3000 if quick else 10000,
-        },
-        "our `office` generator (rooms on both sides of corridors), one map "
-        f"(`map_seed = 1`), cells read as {CELL_SIZE_M} m",
-    )
     real = {"cell_size": CELL_SIZE_M, "sensor_range": f"{SENSOR_RANGE_M:g}m", "max_ticks": 10000}
+    office = {"map": "office", "size": "80x56" if quick else "120x80", "map_seed": 1}
+    office |= {"sensor_range": SENSOR_RANGE_M / CELL_SIZE_M, "max_ticks": 3000 if quick else 10000}
+    settings = {"intel": {"map": "intel", **real}, "house": {"map": "aws-small-house", **real}}
+    rows = render.text_rows(f"""
+intel | Intel Research Lab | catalogue map `intel` (real SLAM map, ring corridor and small rooms)
+house | AWS small house | catalogue map `aws-small-house` (a Gazebo house mapped in ROS)
+office | office generator | our `office` generator (rooms on both sides of corridors), one map
+  (`map_seed = 1`), cells read as {CELL_SIZE_M} m
+""")
     return [
-        MapSetup(
-            "intel",
-            "Intel Research Lab",
-            {"map": "intel", **real},
-            "catalogue map `intel` (real SLAM map, ring corridor and small rooms)",
-        ),
-        MapSetup(
-            "house",
-            "AWS small house",
-            {"map": "aws-small-house", **real},
-            "catalogue map `aws-small-house` (a Gazebo house mapped in ROS)",
-        ),
-        office,
+        MapSetup(key, label, {**settings, "office": office}[key], note) for key, label, note in rows
     ]
 
 
