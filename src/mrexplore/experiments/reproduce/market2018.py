@@ -77,9 +77,14 @@ def map_setups(quick: bool) -> list[MapSetup]:
     ['intel', 'house', 'office']
     """
     real = {"cell_size": CELL_SIZE_M, "sensor_range": f"{SENSOR_RANGE_M:g}m", "max_ticks": 10000}
-    office = {"map": "office", "size": "80x56" if quick else "120x80", "map_seed": 1}
+    office: dict[str, Any] = {
+        "map": "office",
+        "size": "80x56" if quick else "120x80",
+        "map_seed": 1,
+    }
     office |= {"sensor_range": SENSOR_RANGE_M / CELL_SIZE_M, "max_ticks": 3000 if quick else 10000}
     settings = {"intel": {"map": "intel", **real}, "house": {"map": "aws-small-house", **real}}
+    settings["office"] = office
     rows = render.text_rows(f"""
 intel | Intel Research Lab | catalogue map `intel` (real SLAM map, ring corridor and small rooms)
 house | AWS small house | catalogue map `aws-small-house` (a Gazebo house mapped in ROS)
