@@ -254,9 +254,8 @@ class Rule:
     def describe(self, first: str, second: str, metric: str) -> str:
         strong, weak = self.conditions()
         words = self.what(first, second, metric)
-        words += f" ({', '.join(f'`{a}`' for a in self.shown)} shown, not judged)" * bool(
-            self.shown
-        )
+        if self.shown:
+            words += f" ({', '.join(f'`{a}`' for a in self.shown)} shown, not judged)"
         if self.also:
             words += f" (also counted on `{self.also[0]}` vs `{self.also[1]}`)"
         return f"{words}; {(self.needs or self.usual).words(strong, weak or strong, self.item)}"
@@ -710,8 +709,8 @@ class Trend(Along):
         xs, means = list(curve), [_mean(s) for s in curve.values()]
         rho = spearman([float(x) for x in xs], means)
         steep = rho <= -self.rho if self.direction == "falls" else rho >= self.rho
-        text = f"{series_text(dict(zip(xs, means, strict=True)), ask.digits)} (Spearman rho "
-        text += fmt(rho, 2)
+        series = series_text(dict(zip(xs, means, strict=True)), ask.digits)
+        text = f"{series} (Spearman rho {fmt(rho, 2)}"
         if not self.paired:
             ends = _moves(self.direction, means[0], means[-1])
             return (HOLDS if steep and ends else FAILS), text + ")"
@@ -744,9 +743,8 @@ class Trend(Along):
         if self.kind == "ratio":
             moves = _moves(self.direction, r0, r1)
             bound = self.bound is None or _moves(self.direction, self.bound, r1)
-            return series_text(
-                ratios, self.digits
-            ), HOLDS if moves and bound else WEAK if moves else FAILS
+            grade = HOLDS if moves and bound else WEAK if moves else FAILS
+            return series_text(ratios, self.digits), grade
         (a0, b0), (a1, b1) = points[x0], points[x1]
         text = f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
         text += f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
