@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from mrexplore.experiments.reproduce import render
-from mrexplore.experiments.reproduce.claims import Claim, Counted
+from mrexplore.experiments.reproduce.claims import Claim, Means
 from mrexplore.experiments.stats import summarize_metric
+from mrexplore.viz.plots import plot_arm_lines
 
 
 def _rows() -> list[dict[str, Any]]:
@@ -70,7 +71,7 @@ def test_arm_table_renders_every_cell_with_flags() -> None:
     assert lines[3].endswith(f"| {expected} |")
     assert lines[3].startswith("| m | 2 | ") and "* (sd" in lines[3]
     assert render.summary_cell(None) == "-"
-    assert render.diff_cell(summarize_metric([1.0, 1.0])) == "1 [1, 1] (n 2)"
+    assert render.blocks("## A", lines[:2], [], "end") == ["## A", "", *lines[:2], "", "end", ""]
 
 
 def test_settings_head_and_report(tmp_path: Path) -> None:
@@ -81,7 +82,7 @@ def test_settings_head_and_report(tmp_path: Path) -> None:
     assert head[0] == "# Reproduction: T" and "**Quick run** (`--quick`): 2 seeds" in head[2]
     assert "Runs: complete 3." in head[-2]
     assert not any("Quick run" in line for line in render.report_head("T", "C", {}, None))
-    claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T99", "a", "b", Counted("<"))
+    claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T99", "a", "b", Means("<"))
     path = render.write_report(tmp_path, [*head, *settings], [claim], {"time": _values()["time"]})
     text = path.read_text()
     assert path == tmp_path / "report.md" and "## Verdicts" in text
@@ -98,7 +99,7 @@ def test_experiment_builds_its_sweep() -> None:
     assert len(runs) == 4 and sweeps["e"].curves_every == 10
 
 
-def test_lines_figure_holds_its_data_and_the_legend_is_outside(
+def test_arm_lines_hold_their_data_and_the_legend_is_outside(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from matplotlib.figure import Figure
@@ -113,13 +114,13 @@ def test_lines_figure_holds_its_data_and_the_legend_is_outside(
     for log in (False, True):
         panels = render.panels_of(values, ["b", "a"])
         assert list(panels["p"]) == ["b", "a"]
-        path = render.lines_figure(
+        path = plot_arm_lines(
             panels, tmp_path / "f.png", xlabel="x", ylabel="y", title="T", colours={}, log=log
         )
         assert path == tmp_path / "f.png"
     assert (
         len(saved) == 2
-        and render.lines_figure({}, tmp_path / "g.png", xlabel="", ylabel="", title="", colours={})
+        and plot_arm_lines({}, tmp_path / "g.png", xlabel="", ylabel="", title="", colours={})
         is None
     )
     for fig in saved:
@@ -134,3 +135,42 @@ def test_lines_figure_holds_its_data_and_the_legend_is_outside(
                         ys = np.asarray(segment)[:, 1]
                         assert low <= ys.min() and ys.max() <= high
             assert legend.x0 >= ax.get_window_extent(renderer).x1
+
+
+def _drawn(monkeypatch: pytest.MonkeyPatch, panels: Any, title: str, **axes: Any) -> Any:
+    """The figure :func:`render.figure` draws (not saved) and the report lines it returns."""
+    from matplotlib.figure import Figure
+
+    saved: list[Any] = []
+    monkeypatch.setattr(Figure, "savefig", lambda fig, path, **kw: saved.append(fig))
+    lines = render.figure(Path("/nowhere"), "f.png", panels, title=title, **axes)
+    fig = saved[0]
+    fig.canvas.draw()
+    return fig, fig.canvas.get_renderer(), lines
+
+
+def test_one_panel_keeps_its_title_clear_of_the_legend(monkeypatch: pytest.MonkeyPatch) -> None:
+    long_arms = {f"an arm with a long name {i}": {1: summarize_metric([1.0 + i])} for i in range(3)}
+    title = "Fig. 12: exploration time of every team size"
+    axes = {"xlabel": "x", "ylabel": "y", "colours": {}}
+    fig, renderer, lines = _drawn(monkeypatch, {"the panel": long_arms}, title, **axes)
+    assert lines == [f"![{title}](f.png)", ""]
+    assert not fig.texts or not fig.texts[0].get_text()  # no figure title: it is the axes'
+    (ax,) = fig.axes
+    assert " ".join(ax.get_title().split("\n")[:2]) == f"{title}: the panel"  # wrapped
+    title = ax.title.get_window_extent(renderer)
+    legend = fig.legends[0].get_window_extent(renderer)
+    assert title.x1 <= legend.x0 or title.y1 <= legend.y0 or legend.y1 <= title.y0
+
+
+def test_log_x_places_the_points_at_their_values(monkeypatch: pytest.MonkeyPatch) -> None:
+    points = {x: summarize_metric([10.0 / x, 12.0 / x]) for x in (0.1, 1.0, 10.0)}
+    panels = {"": {"a": points, "b": dict.fromkeys(points, summarize_metric([3.0]))}}
+    fig, _, _ = _drawn(
+        monkeypatch, panels, "A title", xlabel="x", ylabel="y", colours={}, logx=True
+    )
+    (ax,) = fig.axes
+    assert ax.get_xscale() == "log" and ax.get_title().startswith("A title\n")
+    xs = [x for line in ax.get_lines() for x in line.get_xdata()]
+    assert min(xs) == pytest.approx(0.1, rel=0.05) and max(xs) == pytest.approx(10.0, rel=0.05)
+    assert {t.get_text() for t in ax.get_xticklabels()} >= {"0.1", "1", "10"}

@@ -1,6 +1,6 @@
 """The Vazquez & Malcolm reproduction: the quick run end to end (with one reading of the
-paper), its claims on hand-made runs, the rules it added to the claims layer on hand-made
-values, and (marked slow) the full reproduction."""
+paper), its claims on hand-made runs (the rules themselves: ``test_claims``), and (marked
+slow) the full reproduction."""
 
 from __future__ import annotations
 
@@ -16,15 +16,7 @@ import pytest
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import vazquez2005 as vz
-from mrexplore.experiments.reproduce.claims import (
-    AtLeast,
-    Diminishing,
-    GapNarrows,
-    RatioAtMost,
-    RatioFalls,
-    RisesAbove,
-    Share,
-)
+from mrexplore.experiments.reproduce.claims import Level, Ratio, RisesAbove
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import sweep_from_dict
 from mrexplore.grid import generate_map
@@ -229,13 +221,14 @@ def test_the_claims_keep_their_rules_and_thresholds() -> None:
         "network",
         "faster_one_map",
     ]
-    t99 = (f"{vz.VAZQUEZ} T99", f"{vz.YAMAUCHI} T99")
-    assert rules["faster"] == Share("<", 0.9, 1 / 3, also=t99)
-    assert rules["variance"] == Share(">", 0.75, 0.5, "sd", min_seeds=2)
-    assert rules["above_7"] == RisesAbove(7, ("small",))
-    assert rules["range_tradeoff"] == RatioAtMost(1.25)
-    assert rules["network"] == AtLeast(0.95, 0.8)
-    assert rules["faster_one_map"] == Share("<", 0.9, 1 / 3)
+    assert rules["faster"] == vz.FASTER and vz.FASTER.also == vz.T99_ARMS
+    assert (vz.FASTER.needs.holds, vz.FASTER.needs.partly_holds) == (0.9, 1 / 3)
+    assert vz.VARIANCE.statistic == "sd" and vz.VARIANCE.min_seeds == 2
+    assert (vz.VARIANCE.needs.holds, vz.VARIANCE.needs.partly_holds) == (0.75, 0.5)
+    assert rules["above_7"] == RisesAbove(7, within=("small",))
+    assert rules["range_tradeoff"] == Ratio("<=", 1.25, seeds="common")
+    assert rules["network"] == Level(">=", 0.95, 0.8, shown=(vz.YAMAUCHI,))
+    assert rules["faster_one_map"] == vz.ONE_MAP and not vz.ONE_MAP.also
 
 
 def test_faster() -> None:
@@ -305,7 +298,7 @@ def test_incremental() -> None:
     rows = _runs(vz.YAMAUCHI, 2, [1000]) + _runs(vz.VAZQUEZ, 2, [2000])
     rows += _runs(vz.YAMAUCHI, 10, [300]) + _runs(vz.VAZQUEZ, 10, [330])
     outcome, evidence = _verdict("incremental", rows)
-    assert outcome == "reproduced" and "2.00 -> 1.10" in evidence
+    assert outcome == "reproduced" and "2:2.00, 10:1.10" in evidence
     worse = [
         dict(r, T100=900) if r["robots"] == 10 and r["strategy"] == vz.VAZQUEZ else r for r in rows
     ]
@@ -320,7 +313,8 @@ def test_network() -> None:
 
     outcome, evidence = _verdict("network", rows(1.0))
     assert outcome == "reproduced"
-    assert "`vazquez-network` 1.00-1.00; `nearest-frontier` 0.25-0.25" in evidence
+    assert "`vazquez-network`: holds in 1/1 cells" in evidence
+    assert "| `nearest-frontier`: small/1 m/4r: 0.25" in evidence
     assert _verdict("network", rows(0.9))[0] == "partly"
     assert _verdict("network", rows(0.6))[0] == "not reproduced"
     assert _verdict("network", rows(math.nan))[0] == "not reproduced"  # no curves
@@ -331,91 +325,3 @@ def test_every_claim_gives_a_verdict_line_on_no_runs() -> None:
         line = claim.judge(vz.run_values([])).line()
         assert VERDICT_LINE.match(line), line
         assert line.startswith("- **not reproduced**")
-
-
-# --------------------------------------------------------------------- the new rules
-
-
-FAST = {1: 10.0, 2: 12.0, 3: 11.0}
-SLOW = {1: 20.0, 2: 25.0, 3: 21.0}
-
-
-def test_share_counts_cells_and_cites_ratios_paired_differences_and_a_second_measure() -> None:
-    values = {
-        ("m", 2): {"a": FAST, "b": SLOW, "a'": FAST, "b'": SLOW},
-        ("m", 4): {"a": SLOW, "b": FAST, "a'": FAST, "b'": SLOW},
-    }
-    rule = Share("<", 0.9, 0.5, also=("a'", "b'"))
-    outcome, text = rule.judge(values, "a", ["b"], 0)
-    assert outcome == "partly"  # 1 of 2 cells
-    assert text.startswith("holds in 1/2 cells (paired 95% CI below 0 in 1, above 0 in 1)")
-    assert "ratio `a` / `b` median 1.25, range 0.50-2.00, lowest at m/2r" in text
-    assert "m/4r 22 vs 11 (paired 11 [" in text and text.count(" x") == 1
-    assert text.endswith("`a'` vs `b'`: holds in 2/2 cells")
-    spread = Share(">", 0.75, 0.5, "sd", min_seeds=2)
-    outcome, text = spread.judge({("m", 2): {"a": SLOW, "b": FAST}}, "a", ["b"], 1)
-    assert outcome == "reproduced" and "m/2r 2.6 vs 1.0" in text and "paired" not in text
-    assert spread.judge({("m", 2): {"a": {1: 1.0}, "b": {1: 2.0}}}, "a", ["b"], 0) == (
-        "not reproduced",
-        "no cell with both arms",
-    )
-    assert "at least 90% of the cells, partly if in at least 50%" in rule.describe("a", "b", "T")
-    assert "(also counted on `a'` vs `b'`)" in rule.describe("a", "b", "T")
-
-
-def test_diminishing_needs_a_falling_curve_whose_drops_shrink() -> None:
-    values = {("m", n): {"a": {1: 900.0 / n}, "b": {1: 100.0 - n}} for n in (1, 3, 9)}
-    outcome, text = Diminishing().judge(values, "a", ["b"], 0)
-    assert outcome == "partly"
-    assert text == (
-        "falls in 2/2 curves, with diminishing returns in 1/2; `a` m: 900 -> 300 -> 100; "
-        "`b` m: 99 -> 97 -> 91 x"
-    )
-    two = {("m", n): {"a": {1: 10.0 - n}} for n in (1, 2)}
-    assert Diminishing().judge(two, "a", [], 0) == (
-        "reproduced",
-        "falls in 1/1 curves, with diminishing returns in 1/1; `a` m: 9 -> 8",
-    )
-    assert "diminishing returns" in Diminishing().describe("a", "b", "T")
-
-
-def test_ratio_rules() -> None:
-    values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
-    assert RatioAtMost(1.25).judge(values, "a", ["b"], 0) == (
-        "partly",
-        "at most 1.25 in 1/2 cells: m/1r 1.10; m/5r 1.50 x",
-    )
-    assert RatioFalls().judge(values, "a", ["b"], 0) == (
-        "not reproduced",
-        "falls in 0/1 groups: m: 1.10 -> 1.50 x",
-    )
-    assert GapNarrows().judge(values, "a", ["b"], 0) == (
-        "not reproduced",
-        "the gap shrinks in 0/1 groups, the ratio too in 0/1: m: 1: 1 (x1.10) -> 5: 5 (x1.50)",
-    )
-    narrowing = {("m", n): {"a": {1: 20.0 / n}, "b": {1: 10.0 / n + 1}} for n in (1, 5)}
-    assert GapNarrows().judge(narrowing, "a", ["b"], 0)[0] == "reproduced"
-    assert RatioFalls().judge(narrowing, "a", ["b"], 0)[0] == "reproduced"
-    assert "at most 1.25" in RatioAtMost(1.25).describe("a", "b", "T")
-    assert "as a difference and as a ratio" in GapNarrows().describe("a", "b", "T")
-    assert "falls from the smallest to the largest" in RatioFalls().describe("a", "b", "T")
-
-
-def test_rises_above_and_at_least() -> None:
-    values = {("s", r, n): {"a": {1: t + r}} for r in (1, 2) for n, t in ((6, 30.0), (8, 31.0))}
-    values[("s", 2, 8)] = {"a": {1: 20.0}}
-    values[("t", 1, 8)] = {"a": {1: 1.0}}  # not in the group ("s",): ignored
-    outcome, text = RisesAbove(7, ("s",)).judge(values, "a", [], 0)
-    assert (outcome, text) == (
-        "partly",
-        "holds in 1/2 groups: s/1: 31 at 6, 32 at 8; s/2: 32 at 6, 20 at 8 x",
-    )
-    assert "above 7" in RisesAbove(7, ("s",)).describe("a", "", "T")
-    shares = {("m", 2): {"a": {1: 0.97, 2: 0.99}, "b": {1: 0.3}}, ("m", 4): {"a": {1: math.nan}}}
-    assert AtLeast(0.95, 0.8).judge(shares, "a", ["b"], 2) == (
-        "reproduced",
-        "mean per cell: `a` 0.98-0.98; `b` 0.30-0.30",
-    )
-    assert AtLeast(0.99, 0.8).judge(shares, "a", ["b"], 2)[0] == "partly"
-    assert AtLeast(0.95, 0.8).judge({}, "a", ["b"], 2) == ("not reproduced", "no value of `a`")
-    assert "at least 0.95 in every cell" in AtLeast(0.95, 0.8).describe("a", "b", "share")

@@ -1,6 +1,6 @@
 """Reproduction of Wu, Puig and Garcia §V: the quick run end to end (one reading of the
-paper besides the default), the helpers and the rule objects on hand-made tables, and
-the full run (slow)."""
+paper besides the default), the helpers on hand-made tables, and the full run (slow);
+its rules are tested in ``test_claims``."""
 
 from __future__ import annotations
 
@@ -16,7 +16,6 @@ from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import wu2011 as repro
 from mrexplore.experiments.reproduce.base import interpret
-from mrexplore.experiments.reproduce.claims import Lowest, NotBelowAll, TrendForAll, Unpaired
 from mrexplore.experiments.store import Store
 
 READING = "kme-replans-on-arrival"
@@ -255,82 +254,6 @@ def test_the_claims_in_the_papers_order() -> None:
         "zlot-market",
         "nearest-frontier",
         "burgard",
-    )
-
-
-# ------------------------------------------------------------- rule objects
-
-A_LOW = {s: 1.0 + s % 2 for s in range(4)}
-B_HIGH = {s: 5.0 + s % 2 for s in range(4)}
-
-
-def test_lowest_counts_cells_and_the_expected_exceptions() -> None:
-    values = {("m", 2): {"a": A_LOW, "b": B_HIGH}, ("m", 4): {"a": B_HIGH, "b": A_LOW}}
-    outcome, text = Lowest().judge(values, "a", ["b"], 0)
-    assert outcome == "partly"
-    assert text.startswith("holds in 1/2 cells; m/2r: `a` 2 vs best other `b` 6, paired -4 [")
-    assert text.endswith(" x")  # m/4r: b is the lowest
-    assert Lowest(unless=(4,)).judge(values, "a", ["b"], 0)[0] == "reproduced"
-    assert Lowest(unless=(2, 4)).judge(values, "a", ["b"], 0)[0] == "partly"
-    outcome, text = Lowest(brief=True).judge(values, "a", ["b"], 0)
-    assert text == "holds in 1/2 cells over 1 groups of the other keys; fails in m/4r (`b` lowest)"
-    assert Lowest().judge({("m", 2): {"b": A_LOW}}, "a", ["b"], 0)[0] == "not reproduced"
-    words = Lowest((2,)).describe("a", "b / c", "WTV")
-    assert words.startswith("mean WTV of `a` the lowest of it and `b / c`, cell by cell")
-    assert "(not the lowest where the last cell key is 2)" in words
-    assert words.endswith("no significance test")
-
-
-def test_trend_for_all_needs_every_arm() -> None:
-    falling = {("m", n): {"a": {1: 10.0 / n}, "b": {1: 20.0 / n}} for n in (2, 4, 8)}
-    assert TrendForAll("falls").judge(falling, "a", ["b"], 1) == (
-        "reproduced",
-        "m `a`: 5.0 -> 2.5 -> 1.2; m `b`: 10.0 -> 5.0 -> 2.5",
-    )
-    bumpy = {**falling, ("m", 4): {"a": {1: 6.0}, "b": {1: 5.0}}}
-    assert TrendForAll("falls").judge(bumpy, "a", ["b"], 0)[0] == "partly"
-    assert TrendForAll("rises").judge(falling, "a", ["b"], 0)[0] == "not reproduced"
-    assert TrendForAll("falls").judge({}, "a", ["b"], 0) == ("not reproduced", "no cell")
-    assert (
-        TrendForAll("falls")
-        .describe("a", "b", "WTV")
-        .startswith("mean WTV of each of `a` / `b` falls with each step of the last cell key")
-    )
-
-
-def test_not_below_all_needs_significance_against_every_other_arm() -> None:
-    near = {0: 2.0, 1: 1.0, 2: 1.5, 3: 2.5}  # z - near: -1, 1, -0.5, -0.5
-    values = {("m", 2): {"z": A_LOW, "y": B_HIGH, "b": B_HIGH}}
-    assert NotBelowAll().judge(values, "z", ["y", "b"], 0) == (
-        "not reproduced",
-        "not significantly below all others in 0/1 cells; superior in m/2r",
-    )
-    values = {("m", 2): {"z": A_LOW, "y": B_HIGH, "b": near}}
-    assert NotBelowAll().judge(values, "z", ["y", "b"], 0) == (
-        "reproduced",
-        "not significantly below all others in 1/1 cells",
-    )
-    assert "95% CI of its EPV minus that of each of `y / b`" in NotBelowAll().describe(
-        "z", "y / b", "EPV"
-    )
-
-
-def test_unpaired_compares_means_only() -> None:
-    values = {
-        ("m", "a", 2): {"separate": {1: 1.0}, "together": {2: 3.0}},
-        ("m", "b", 2): {"separate": {1: 4.0}, "together": {1: 3.0}},
-    }
-    assert Unpaired("<").judge(values, "separate", ["together"], 0) == (
-        "partly",
-        "`separate` < `together` in 1/2 cells; fails in m/b/2r 4 vs 3",
-    )
-    assert "paired" not in Unpaired("<").judge(values, "separate", ["together"], 0)[1]
-    assert (
-        Unpaired("<")
-        .describe("separate", "together", "WTV")
-        .startswith(
-            "mean WTV of `separate` < that of `together`, cell by cell, the seeds not paired"
-        )
     )
 
 

@@ -1,4 +1,5 @@
-"""Figures of a sweep: metrics against a scenario value, curves over time, bytes by type.
+"""Figures of a sweep: metrics against a scenario value, curves over time, bytes by type,
+the means of a reproduction's arms.
 
 Every function draws one PNG with matplotlib (``Figure`` + ``FigureCanvasAgg``,
 never pyplot, so no global backend or figure state), imported inside the function,
@@ -19,6 +20,7 @@ from __future__ import annotations
 
 import math
 import os
+import textwrap
 import zlib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -31,6 +33,8 @@ from mrexplore.errors import MrexploreInputError
 
 if TYPE_CHECKING:
     import pyarrow as pa
+
+    from mrexplore.experiments.stats import Summary
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -561,3 +565,69 @@ def bytes_by_type_figure(
     if types:
         legend_outside(ax, title="message type", fontsize=8, title_fontsize=8)
     return fig
+
+
+# ----------------------------------------------------------- means of arms, by panel
+
+
+_LINE_STYLE: dict[str, Any] = {"marker": "o", "ms": 4, "lw": 1.3, "capsize": 2}
+
+
+def plot_arm_lines(
+    panels: Mapping[str, Mapping[str, Mapping[Any, Summary]]],
+    path: str | os.PathLike[str],
+    *,
+    xlabel: str,
+    ylabel: str,
+    title: str,
+    colours: Mapping[str, str],
+    log: bool = False,
+    logx: bool = False,
+) -> Path | None:
+    """One subplot per panel (``panel -> arm -> x -> summary``): the mean against x, one
+    line per arm, 95% CI bars, the legend right of the panels; ``log`` / ``logx``: a
+    logarithmic y / x axis. With one panel the title stands above its axes, clear of the
+    legend (the panel's name, if any, after it). ``None`` when there is no panel."""
+    from matplotlib.ticker import FuncFormatter
+
+    if not panels:
+        return None
+    fig = _new_figure(3.6 * len(panels) + LEGEND_WIDTH_IN, 3.6, 110)
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    for ax, (panel, arms) in zip(axes, panels.items(), strict=True):
+        xs_all: set[Any] = set()
+        for i, (arm, points) in enumerate(arms.items()):
+            kept = [(x, s) for x, s in points.items() if math.isfinite(s.mean)]
+            kept = [(x, s) for x, s in kept if s.mean > 0] if log else kept
+            if not kept:
+                continue
+            xs_all |= {x for x, _ in kept}
+            xs = np.array([x for x, _ in kept], dtype=np.float64)
+            dodge = (i - len(arms) / 2) * 0.06  # arms side by side; on a log axis, in ratio
+            xs = xs * 10 ** (dodge / 8) if logx else xs + dodge
+            means = np.array([s.mean for _, s in kept])
+            below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
+            above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
+            below = np.minimum(below, means * 0.999) if log else below
+            yerr, colour = np.vstack([below, above]), colours.get(arm, "#000000")
+            ax.errorbar(xs, means, yerr=yerr, color=colour, label=arm, **_LINE_STYLE)
+        if log:
+            ax.set_yscale("log")
+        if logx:  # ticks at the decades, labelled as numbers
+            ax.set_xscale("log")
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+        else:
+            ax.set_xticks(sorted(xs_all))
+        ax.set_xlabel(xlabel, fontsize=8)
+        ax.set_title(panel, fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, alpha=0.3)
+    figure_legend_outside(fig, axes, fontsize=7)
+    axes[0].set_ylabel(ylabel, fontsize=8)
+    subtitle, panel = "(mean over seeds, error bars: 95% CI)", next(iter(panels))
+    if len(panels) > 1:
+        fig.suptitle(f"{title}\n{subtitle}", fontsize=10)
+    else:  # above the axes, as wide as they are: clear of the legend at their right
+        heading = f"{title}: {panel}" if panel not in ("", title) else title
+        axes[0].set_title(f"{textwrap.fill(heading, 40)}\n{subtitle}", fontsize=9)
+    return _save(fig, path, 110)

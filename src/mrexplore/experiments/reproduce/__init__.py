@@ -10,7 +10,8 @@ from __future__ import annotations
 import importlib
 
 from mrexplore.errors import UnknownIdError
-from mrexplore.experiments.reproduce.base import Reproduction, Verdict, reproduce
+from mrexplore.experiments.reproduce.base import Reproduction, reproduce
+from mrexplore.experiments.reproduce.claims import Verdict
 
 MODULES = {
     "sheng2006": "mrexplore.experiments.reproduce.sheng2006",

@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 from mrexplore.experiments.driver import run_sweep
 from mrexplore.experiments.engines import make_engine
@@ -23,21 +23,6 @@ from mrexplore.experiments.sweep import Sweep
 
 if TYPE_CHECKING:
     from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values
-
-Outcome = Literal["reproduced", "partly", "not reproduced"]
-
-
-@dataclass(frozen=True)
-class Verdict:
-    """One claim of the paper and whether our numbers agree."""
-
-    claim: str
-    outcome: Outcome
-    evidence: str
-    """The numbers and figures that say so: ours beside the paper's."""
-
-    def line(self) -> str:
-        return f"- **{self.outcome}**: {self.claim} ({self.evidence})"
 
 
 @dataclass(frozen=True)
@@ -160,15 +145,3 @@ def reproduce(
         section = robustness_section(reproduction.claims, tables, reproduction.interpretations)
         path.write_text(path.read_text().rstrip("\n") + "\n\n" + "\n".join(section))
     return path
-
-
-def rules_header(rules: Mapping[str, str]) -> list[str]:
-    """The start of a report's verdict section: its heading and the rules that decide
-    each verdict, one line per rule."""
-    header = ["## Verdicts", "", "Rules, fixed before the runs and never tuned:", ""]
-    return header + [f"- `{name}`: {rule}" for name, rule in rules.items()]
-
-
-def verdict_section(verdicts: list[Verdict]) -> str:
-    """The report's verdict lines, one per claim."""
-    return "\n".join(v.line() for v in verdicts)

@@ -22,38 +22,11 @@ from typing import Any
 import numpy as np
 
 from mrexplore.comm import messages
+from mrexplore.experiments.reproduce import render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import (
-    CellKey,
-    Claim,
-    Counted,
-    Interpretation,
-    Values,
-)
-from mrexplore.experiments.reproduce.render import (
-    Experiment,
-    Lines,
-    Metric,
-    Row,
-    arm_table,
-    arms_in,
-    bytes_by_type,
-    bytes_of,
-    column,
-    lines_figure,
-    panels_of,
-    reached,
-    report_head,
-    rows_of,
-    settings_table,
-    sweeps_of,
-    table,
-    tabulate,
-    time_to,
-    write_report,
-)
+from mrexplore.experiments.reproduce.claims import CellKey, Claim, Interpretation, Means, Values
+from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row, bytes_by_type
 from mrexplore.experiments.store import Store
-from mrexplore.experiments.sweep import Sweep
 from mrexplore.strategies.market_occupancy import WEIGHT_REQUEST, WEIGHTS
 
 ID = "market2018"
@@ -65,12 +38,8 @@ CITATION = (
 
 # ----------------------------------------------------------------------- settings
 
-#: §IV: "with the number of robots from one to three".
-TEAM_SIZES = (1, 2, 3)
-QUICK_TEAM_SIZES = (2, 3)
-#: Not given in the paper: ours.
-SEEDS = tuple(range(1, 11))
-QUICK_SEEDS = (1, 2)
+TEAM_SIZES, QUICK_TEAM_SIZES = (1, 2, 3), (2, 3)  # §IV: "from one to three"
+SEEDS, QUICK_SEEDS = tuple(range(1, 11)), (1, 2)  # not given in the paper: ours
 #: Metres per cell of the real maps (their files have 0.05 m): a robot-sized cell.
 CELL_SIZE_M = 0.2
 #: Not given in the paper: a Kinect-like range, the project's usual 3 m.
@@ -107,43 +76,30 @@ def map_setups(quick: bool) -> list[MapSetup]:
     >>> [m.key for m in map_setups(True)]
     ['intel', 'house', 'office']
     """
-    office = MapSetup(
-        "office",
-        "office generator",
-        {
-            "map": "office",
-            "size": "80x56" if quick else "120x80",
-            "map_seed": 1,
-            "sensor_range": SENSOR_RANGE_M / CELL_SIZE_M,
-            "max_ticks": 3000 if quick else 10000,
-        },
-        "our `office` generator (rooms on both sides of corridors), one map "
-        f"(`map_seed = 1`), cells read as {CELL_SIZE_M} m",
-    )
     real = {"cell_size": CELL_SIZE_M, "sensor_range": f"{SENSOR_RANGE_M:g}m", "max_ticks": 10000}
+    office: dict[str, Any] = {
+        "map": "office",
+        "size": "80x56" if quick else "120x80",
+        "map_seed": 1,
+    }
+    office |= {"sensor_range": SENSOR_RANGE_M / CELL_SIZE_M, "max_ticks": 3000 if quick else 10000}
+    settings = {"intel": {"map": "intel", **real}, "house": {"map": "aws-small-house", **real}}
+    settings["office"] = office
+    rows = render.text_rows(f"""
+intel | Intel Research Lab | catalogue map `intel` (real SLAM map, ring corridor and small rooms)
+house | AWS small house | catalogue map `aws-small-house` (a Gazebo house mapped in ROS)
+office | office generator | our `office` generator (rooms on both sides of corridors), one map
+  (`map_seed = 1`), cells read as {CELL_SIZE_M} m
+""")
     return [
-        MapSetup(
-            "intel",
-            "Intel Research Lab",
-            {"map": "intel", **real},
-            "catalogue map `intel` (real SLAM map, ring corridor and small rooms)",
-        ),
-        MapSetup(
-            "house",
-            "AWS small house",
-            {"map": "aws-small-house", **real},
-            "catalogue map `aws-small-house` (a Gazebo house mapped in ROS)",
-        ),
-        office,
+        MapSetup(key, label, {**settings, "office": office}[key], note) for key, label, note in rows
     ]
 
 
 # ------------------------------------------------------------------------ arms
 
-CENTRALISED = "centralised"
-DECENTRALISED = "decentralised"
-RRT = "rrt"
-NO_OCCUPANCY = "no-occupancy"
+CENTRALISED, DECENTRALISED = "centralised", "decentralised"
+RRT, NO_OCCUPANCY = "rrt", "no-occupancy"
 
 
 def timer_arm(period: int) -> str:
@@ -158,14 +114,8 @@ ARM_LABELS = {
     **{timer_arm(p): f"decentralised, time-triggered every {p} ticks" for p in TIMER_PERIODS},
     NO_OCCUPANCY: "decentralised, event-based, no occupancy (lambda_f ~ 0)",
 }
-ARM_COLOURS = {
-    CENTRALISED: "#1f77b4",
-    DECENTRALISED: "#bcbd22",
-    RRT: "#8c564b",
-    timer_arm(TIMER_PERIODS[0]): "#d62728",
-    timer_arm(TIMER_PERIODS[1]): "#ff7f0e",
-    NO_OCCUPANCY: "#7f7f7f",
-}
+_PALETTE = ("#1f77b4", "#bcbd22", "#8c564b", "#d62728", "#ff7f0e", "#7f7f7f")
+ARM_COLOURS = dict(zip(ARMS, _PALETTE, strict=True))
 
 
 def arm_of(row: Mapping[str, Any]) -> str:
@@ -210,13 +160,13 @@ def coordination_bytes(row: Row) -> float:
 #: The numbers of a run the report and the claims read. ``time`` is T99, or the run's
 #: length if it never reached 99% (a lower bound; ``reached`` says which).
 METRICS: dict[str, Metric] = {
-    "time": time_to("T99"),
-    "reached": reached("T99"),
-    "negotiation_bytes": bytes_of(NEGOTIATION_TYPES),
-    "negotiation_messages": bytes_of(NEGOTIATION_TYPES, "messages"),
+    "time": render.time_to("T99"),
+    "reached": render.reached("T99"),
+    "negotiation_bytes": render.bytes_of(NEGOTIATION_TYPES),
+    "negotiation_messages": render.bytes_of(NEGOTIATION_TYPES, "messages"),
     "coordination_bytes": coordination_bytes,
-    "bytes_total": column("bytes_total"),
-    "diameter": column("group_diameter_mean"),
+    "bytes_total": render.column("bytes_total"),
+    "diameter": render.column("group_diameter_mean"),
 }
 
 Cell = tuple[str, int]
@@ -232,7 +182,7 @@ def map_key(row: Row, quick: bool) -> str:
 def run_values(rows: Iterable[Row], quick: bool) -> dict[str, dict[CellKey, Any]]:
     """``metric -> (map, robots) -> arm -> seed -> value``, maps in the report's order."""
     order = {s.key: i for i, s in enumerate(map_setups(quick))}
-    return tabulate(
+    return render.tabulate(
         rows,
         METRICS,
         lambda r: (map_key(r, quick), int(r["robots"])),
@@ -270,76 +220,38 @@ PAPER_TEAM_SIZES = (1, 2, 3)
 #: negotiate; for the event-based claims also x timer period, pooled) on the means over
 #: seeds. Exploration time is T99; a run that never reached 99% counts with its length
 #: (a lower bound of its T99).
+#: ``id | where | our statement``, in the report's order.
+_STATEMENTS = render.text_rows("""
+quick | Abstract | the decentralised market-occupancy explores at least as fast as the centralised
+  market (2-3 robots)
+quick_rrt | Abstract | the same with the paper's RRT frontier detector (2-3 robots)
+dispersed | Abstract | the frontier occupancy function makes the robots more dispersed
+event_data | Abstract | event-based communication reduces the information exchanged in the
+  negotiation (vs time-triggered rounds)
+event_time | Abstract | event-based communication speeds up the exploration (vs time-triggered
+  rounds)
+minimal | §I | the decentralised negotiation needs no more information than the centralised
+  market's coordination
+""")
 _TIMERS = tuple(timer_arm(p) for p in TIMER_PERIODS)
-CLAIMS = (
-    *(  # the same claim with grid-cluster frontiers and with the paper's RRT detector
-        Claim(name, "Abstract", what, PAPER_QUICK, "time", "T99", arm, CENTRALISED, Counted("<="))
-        for name, arm, what in (
-            (
-                "quick",
-                DECENTRALISED,
-                "the decentralised market-occupancy explores at least as fast as the "
-                "centralised market (2-3 robots)",
-            ),
-            ("quick_rrt", RRT, "the same with the paper's RRT frontier detector (2-3 robots)"),
-        )
-    ),
-    Claim(
-        "dispersed",
-        "Abstract",
-        "the frontier occupancy function makes the robots more dispersed",
-        PAPER_DISPERSED,
-        "diameter",
-        "group diameter (cells)",
-        DECENTRALISED,
-        NO_OCCUPANCY,
-        Counted(">"),
-        digits=1,
-    ),
-    *(  # event-based against time-triggered rounds, every period pooled
-        Claim(
-            name,
-            "Abstract",
-            f"event-based communication {what} (vs time-triggered rounds)",
-            sentence,
-            metric,
-            label,
-            DECENTRALISED,
-            _TIMERS[0],
-            rule,
-            seconds=_TIMERS[1:],
-        )
-        for name, what, sentence, metric, label, rule in (
-            (
-                "event_data",
-                "reduces the information exchanged in the negotiation",
-                PAPER_EVENT_LESS_DATA,
-                "negotiation_bytes",
-                "negotiation bytes",
-                Counted("<"),
-            ),
-            (
-                "event_time",
-                "speeds up the exploration",
-                PAPER_EVENT_FASTER,
-                "time",
-                "T99",
-                Counted("<="),
-            ),
-        )
-    ),
-    Claim(
-        "minimal",
-        "§I",
-        "the decentralised negotiation needs no more information than the centralised "
-        "market's coordination",
-        PAPER_MINIMAL,
-        "coordination_bytes",
-        "coordination bytes",
-        DECENTRALISED,
-        CENTRALISED,
-        Counted("<="),
-    ),
+_T99, _DIAMETER = ("time", "T99"), ("diameter", "group diameter (cells)")
+_NEGOTIATION = ("negotiation_bytes", "negotiation bytes")
+_COORDINATION = ("coordination_bytes", "coordination bytes")
+#: Claim id -> the paper's words, the metric and its label, the first arm, the arms it is
+#: compared with (their cells pooled) and how its mean compares with theirs.
+_JUDGED: dict[str, tuple[Any, ...]] = {
+    "quick": (PAPER_QUICK, *_T99, DECENTRALISED, (CENTRALISED,), "<="),
+    "quick_rrt": (PAPER_QUICK, *_T99, RRT, (CENTRALISED,), "<="),
+    "dispersed": (PAPER_DISPERSED, *_DIAMETER, DECENTRALISED, (NO_OCCUPANCY,), ">"),
+    "event_data": (PAPER_EVENT_LESS_DATA, *_NEGOTIATION, DECENTRALISED, _TIMERS, "<"),
+    "event_time": (PAPER_EVENT_FASTER, *_T99, DECENTRALISED, _TIMERS, "<="),
+    "minimal": (PAPER_MINIMAL, *_COORDINATION, DECENTRALISED, (CENTRALISED,), "<="),
+}
+CLAIMS = tuple(
+    Claim(i, at, ours, paper, metric, label, first, arms[0], Means(how), digits, arms[1:])
+    for i, at, ours in _STATEMENTS
+    for paper, metric, label, first, arms, how in [_JUDGED[i]]
+    for digits in [int(metric == "diameter")]
 )
 
 #: §III.B: "at the moment when the mobile robot reach the goal, mission is over and a
@@ -398,8 +310,7 @@ def experiments(quick: bool) -> list[Experiment]:
     return out
 
 
-def sweeps(quick: bool) -> dict[str, Sweep]:
-    return sweeps_of(ID, experiments(quick))
+sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------------------ report
@@ -431,161 +342,53 @@ NOTES = (
 
 
 def _settings(quick: bool, setups: Sequence[MapSetup]) -> Lines:
-    seeds = QUICK_SEEDS if quick else SEEDS
-    sizes = QUICK_TEAM_SIZES if quick else TEAM_SIZES
-    rows = [
-        (
-            "environments",
-            f"{PAPER_ENVIRONMENTS} indoor environments in ROS simulation (Fig. 9, not in our copy)",
-            "; ".join(f"{s.label}: {s.note}" for s in setups),
-        ),
-        (
-            "cell size, sensor",
-            "not given (ROS, laser and odometry SLAM)",
-            f"real maps resampled to {CELL_SIZE_M} m per cell, sensor range "
-            f"{SENSOR_RANGE_M:g} m = {SENSOR_RANGE_M / CELL_SIZE_M:g} cells with line of "
-            f"sight; office: {SENSOR_RANGE_M / CELL_SIZE_M:g} cells",
-        ),
-        (
-            "team sizes",
-            "1 to 3 robots",
-            ", ".join(str(n) for n in sizes),
-        ),
-        (
-            "runs",
-            "not given",
-            f"{len(seeds)} seeds ({min(seeds)}-{max(seeds)}) per map, team size and arm; the "
-            "seed places the team (adjacent cells), the same for every arm",
-        ),
-        (
-            "compared method",
-            "centralised market model of [3] (Burgard et al. 2005)",
-            "`burgard` at its defaults (utility discounting, central greedy assignment)",
-        ),
-        (
-            "the paper's method",
-            "weights C - U + F (eqs. 3-6), Hungarian (eq. 8), event-based rounds, RRT "
-            "frontier detector [20]",
-            "`market-occupancy` at its defaults (lambda_u 0.1, lambda_f = r_f, r = sensor "
-            "range, r_f = 2 x sensor range; no values in the paper); frontier points: grid "
-            "clusters (`decentralised`) and the RRT detector (`rrt`)",
-        ),
-        (
-            "without event-based communication",
-            "not described",
-            "`--set event_based=false replan_every=P`: each robot opens a round every P "
-            f"ticks, P = {', '.join(map(str, TIMER_PERIODS))} ticks (= "
-            + ", ".join(f"{p * CELL_SIZE_M:g} m" for p in TIMER_PERIODS)
-            + " of travel), not when it reaches its goal",
-        ),
-        (
-            "communication",
-            "fully connected graph",
-            f"unlimited range, latency 1 tick, no loss; `full` map sharing; idle limit "
-            f"{IDLE_TICKS} ticks",
-        ),
-        (
-            "time",
-            "seconds of ROS simulation",
-            "ticks: one cell (0.2 m) of path per tick; exploration time = T99",
-        ),
-    ]
-    return settings_table(rows, NOTES)
+    seeds, sizes = (QUICK_SEEDS, QUICK_TEAM_SIZES) if quick else (SEEDS, TEAM_SIZES)
+    maps, teams = "; ".join(f"{s.label}: {s.note}" for s in setups), ", ".join(map(str, sizes))
+    cells, periods = SENSOR_RANGE_M / CELL_SIZE_M, ", ".join(map(str, TIMER_PERIODS))
+    travel = ", ".join(f"{p * CELL_SIZE_M:g} m" for p in TIMER_PERIODS)
+    rows = f"""
+environments | {PAPER_ENVIRONMENTS} indoor environments in ROS simulation (Fig. 9, not in our
+  copy) | {maps}
+cell size, sensor | not given (ROS, laser and odometry SLAM) | real maps resampled to
+  {CELL_SIZE_M} m per cell, sensor range {SENSOR_RANGE_M:g} m = {cells:g} cells with line of
+  sight; office: {cells:g} cells
+team sizes | 1 to 3 robots | {teams}
+runs | not given | {len(seeds)} seeds ({min(seeds)}-{max(seeds)}) per map, team size and arm; the
+  seed places the team (adjacent cells), the same for every arm
+compared method | centralised market model of [3] (Burgard et al. 2005) | `burgard` at its
+  defaults (utility discounting, central greedy assignment)
+the paper's method | weights C - U + F (eqs. 3-6), Hungarian (eq. 8), event-based rounds, RRT
+  frontier detector [20] | `market-occupancy` at its defaults (lambda_u 0.1, lambda_f = r_f, r =
+  sensor range, r_f = 2 x sensor range; no values in the paper); frontier points: grid clusters
+  (`decentralised`) and the RRT detector (`rrt`)
+without event-based communication | not described | `--set event_based=false replan_every=P`:
+  each robot opens a round every P ticks, P = {periods} ticks (= {travel} of travel), not when it
+  reaches its goal
+communication | fully connected graph | unlimited range, latency 1 tick, no loss; `full` map
+  sharing; idle limit {IDLE_TICKS} ticks
+time | seconds of ROS simulation | ticks: one cell (0.2 m) of path per tick; exploration time =
+  T99
+"""
+    return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], NOTES)
+
+
+def _teams(values: Mapping[str, Values]) -> dict[str, Values]:
+    """The cells of teams (2+ robots), where robots negotiate."""
+    return {m: {c: v for c, v in cells.items() if c[1] >= 2} for m, cells in values.items()}
 
 
 def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
     """``metric -> (map, robots) -> arm -> seed -> value`` over the teams (2+ robots),
     in the report's order: what :data:`CLAIMS` read."""
-    values = run_values(rows_of(stores)[0], quick)
-    return {m: {c: v for c, v in cells.items() if c[1] >= 2} for m, cells in values.items()}
+    return _teams(run_values(render.rows_of(stores)[0], quick))
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    from mrexplore.viz.plots import plot_bytes_by_type
-
-    out = Path(out)
-    setups = map_setups(quick)
-    labels: dict[str, str] = {s.key: s.label for s in setups}
-    rows, statuses = rows_of(stores)
-    values = run_values(rows, quick)
-    teams = {m: {c: v for c, v in cells.items() if c[1] >= 2} for m, cells in values.items()}
-    flags = {
-        (c, arm): "*"
-        for c, arms in values["reached"].items()
-        for arm, by_seed in arms.items()
-        if min(by_seed.values()) < 1
-    }
-    arms = arms_in(values["time"], ARMS)
-
-    def arm_tab(metric_values: Values, digits: int = 0, marks: Any = None) -> Lines:
-        label = lambda c: (labels.get(c[0], c[0]), c[1])  # noqa: E731
-        return [*arm_table(metric_values, ARMS, ["map", "robots"], label, digits, marks), ""]
-
-    def figure(metric_values: Values, name: str, ylabel: str, title: str, log: bool) -> Lines:
-        panels = panels_of(metric_values, arms, lambda c: labels.get(c[0], str(c[0])))
-        path = lines_figure(
-            panels,
-            out / name,
-            xlabel="robots",
-            ylabel=ylabel,
-            title=title,
-            colours=ARM_COLOURS,
-            log=log,
-        )
-        return [f"![{title.lower()}]({name})", ""] if path else []
-
-    quick_note = (
-        f"the three maps (the office 80 x 56 cells), {len(QUICK_SEEDS)} seeds (the RRT arm "
-        f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
-    )
-    lines = report_head(TITLE, CITATION, statuses, quick_note if quick else None)
-    lines += _settings(quick, setups)
-    lines += ["## Arms", "", *table(["arm", "what"], [(f"`{a}`", ARM_LABELS[a]) for a in arms])]
-    lines += [
-        "",
-        "## Exploration time (§IV, abstract)",
-        "",
-        f'Paper: "{PAPER_QUICK}" compared with the centralised market; '
-        f'"{PAPER_EVENT_FASTER}" (abstract; §IV of our copy gives no numbers; '
-        f"{PAPER_ENVIRONMENTS} environments, {PAPER_TEAM_SIZES[0]} to {PAPER_TEAM_SIZES[-1]} "
-        "robots).",
-        "",
-        "Ours: T99 (ticks), mean (sd; 95% CI; n); `*` = some runs never reached 99% and "
-        "count with their length.",
-        "",
-    ]
-    lines += arm_tab(values["time"], 0, flags)
-    lines += figure(values["time"], "time.png", "T99 (ticks)", "Exploration time", False)
-    lines += [
-        "## Negotiation traffic (abstract, §I, §III.B)",
-        "",
-        f'Paper: "{PAPER_EVENT_LESS_DATA}"; "{PAPER_MINIMAL}" (read from the text; no numbers).',
-        "",
-        "Ours: bytes of `weight_request` + `weights` per run, mean (sd; 95% CI; n):",
-        "",
-        *arm_tab(teams["negotiation_bytes"]),
-        "Negotiation messages per run (`weight_request` + `weights`):",
-        "",
-        *arm_tab(teams["negotiation_messages"]),
-        "Coordination bytes per run (every type but map sharing; `burgard`: `status` + `assign`):",
-        "",
-        *arm_tab(teams["coordination_bytes"]),
-        "All bytes per run (with map sharing):",
-        "",
-        *arm_tab(teams["bytes_total"]),
-    ]
-    lines += figure(
-        teams["coordination_bytes"],
-        "coordination_bytes.png",
-        "coordination bytes per run",
-        "Coordination traffic (all but map sharing)",
-        True,
-    )
-    largest = max((c[1] for c in values["time"]), default=0)
+def _bytes_by_type(rows: Sequence[Row], quick: bool, cells: Iterable[CellKey], arms: Any) -> Any:
+    """``"<map> <arm>" -> message type -> mean bytes per run`` of the largest teams."""
+    largest = max((c[1] for c in cells), default=0)
     bars: dict[str, dict[str, float]] = {}
-    for cell in values["time"]:
-        for arm in arms if cell[1] == largest else ():
+    for cell in (c for c in cells if c[1] == largest):
+        for arm in arms:
             here = [
                 bytes_by_type(r)
                 for r in rows
@@ -596,24 +399,70 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
                 bars[f"{cell[0]} {arm}"] = {
                     t: float(np.mean([b.get(t, 0.0) for b in here])) for t in types
                 }
+    return largest, bars
+
+
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
+    """Write ``out/report.md`` and its figures from the experiments' stores."""
+    from mrexplore.viz.plots import plot_bytes_by_type
+
+    out, setups = Path(out), map_setups(quick)
+    labels: dict[str, str] = {s.key: s.label for s in setups}
+    rows, statuses = render.rows_of(stores)
+    values = run_values(rows, quick)
+    teams, arms = _teams(values), render.arms_in(values["time"], ARMS)
+
+    def arm_tab(metric_values: Values, digits: int = 0, marks: Any = None) -> Lines:
+        label = lambda c: (labels.get(c[0], c[0]), c[1])  # noqa: E731
+        return render.arm_table(metric_values, ARMS, ["map", "robots"], label, digits, marks)
+
+    def figure(metric_values: Values, name: str, ylabel: str, title: str, log: bool) -> Lines:
+        panels = render.panels_of(metric_values, arms, lambda c: labels.get(c[0], str(c[0])))
+        axes = {"xlabel": "robots", "ylabel": ylabel, "colours": ARM_COLOURS, "log": log}
+        return render.figure(out, name, panels, title=title, **axes)
+
+    quick_note = (
+        f"the three maps (the office 80 x 56 cells), {len(QUICK_SEEDS)} seeds (the RRT arm "
+        f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
+    )
+    lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
+    coordination = ("coordination bytes per run", "Coordination traffic (all but map sharing)")
+    largest, bars = _bytes_by_type(rows, quick, list(values["time"]), arms)
+    lines += render.blocks(
+        _settings(quick, setups),
+        "## Arms",
+        render.table(["arm", "what"], [(f"`{a}`", ARM_LABELS[a]) for a in arms]),
+        "## Exploration time (§IV, abstract)",
+        f'Paper: "{PAPER_QUICK}" compared with the centralised market; "{PAPER_EVENT_FASTER}" '
+        f"(abstract; §IV of our copy gives no numbers; {PAPER_ENVIRONMENTS} environments, "
+        f"{PAPER_TEAM_SIZES[0]} to {PAPER_TEAM_SIZES[-1]} robots).",
+        "Ours: T99 (ticks), mean (sd; 95% CI; n); `*` = some runs never reached 99% and "
+        "count with their length.",
+        arm_tab(values["time"], 0, render.unfinished(values["reached"])),
+        figure(values["time"], "time.png", "T99 (ticks)", "Exploration time", False),
+        "## Negotiation traffic (abstract, §I, §III.B)",
+        f'Paper: "{PAPER_EVENT_LESS_DATA}"; "{PAPER_MINIMAL}" (read from the text; no numbers).',
+        "Ours: bytes of `weight_request` + `weights` per run, mean (sd; 95% CI; n):",
+        arm_tab(teams["negotiation_bytes"]),
+        "Negotiation messages per run (`weight_request` + `weights`):",
+        arm_tab(teams["negotiation_messages"]),
+        "Coordination bytes per run (every type but map sharing; `burgard`: `status` + `assign`):",
+        arm_tab(teams["coordination_bytes"]),
+        "All bytes per run (with map sharing):",
+        arm_tab(teams["bytes_total"]),
+        figure(teams["coordination_bytes"], "coordination_bytes.png", *coordination, True),
+    )
     if bars:
-        plot_bytes_by_type(
-            bars,
-            out / "bytes_by_type.png",
-            title=f"Bytes per run by message type, {largest} robots (mean over seeds)",
-            xlabel="map, arm",
-        )
+        title = f"Bytes per run by message type, {largest} robots (mean over seeds)"
+        plot_bytes_by_type(bars, out / "bytes_by_type.png", title=title, xlabel="map, arm")
         lines += ["![bytes by message type](bytes_by_type.png)", ""]
-    lines += [
+    lines += render.blocks(
         "## Dispersion (abstract)",
-        "",
         f'Paper: "{PAPER_DISPERSED}" (read from the text; no numbers).',
-        "",
         "Ours: mean group diameter (cells), mean (sd; 95% CI; n):",
-        "",
-        *arm_tab(teams["diameter"], 1),
-    ]
-    return write_report(out, lines, CLAIMS, teams)
+        arm_tab(teams["diameter"], 1),
+    )
+    return render.write_report(out, lines, CLAIMS, teams)
 
 
 REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)

@@ -21,7 +21,6 @@ from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row, number
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
-from mrexplore.experiments.sweep import Sweep
 
 ID = "meier2006"
 TITLE = "Coordinating multiple robots during exploration under communication with limited bandwidth"
@@ -106,8 +105,7 @@ def experiments(quick: bool) -> list[Experiment]:
     return out
 
 
-def sweeps(quick: bool) -> dict[str, Sweep]:
-    return render.sweeps_of(ID, experiments(quick))
+sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------------ arms and metrics
@@ -169,7 +167,7 @@ _cell = itemgetter("map", "robots")  # the setting of a run
 _COORDINATION = render.bytes_of(("TPT", "status", "assign"))  # all but map sharing
 #: The numbers of a run; the ``raw*`` ones are meant for the centralised runs.
 METRICS: dict[str, Metric] = {
-    "time": lambda row: math.nan if row.get("T99") is None else float(row["T99"]),
+    "time": render.measured("T99"),
     "reached": render.reached("T99"),
     "bytes": render.column("bytes_total"),
     "rate": lambda row: number(row, "bytes_total") / ((row["ticks"] + 1) * row["robots"]),
@@ -186,63 +184,59 @@ POLYGON_METRICS: dict[str, Metric] = {
 
 # ------------------------------------------------------------------ the paper's claims
 
-Judged = tuple[str, str, str, str, claims.Rule, int, tuple[str, ...]]  # Claim.metric to .seconds
-_T99 = ("time", "T99 (ticks)")
-#: (id, where) -> the claim in our words, the paper's words, how it is judged. Time claims
-#: read Fig. 6's settings; Tables 1 and 2 the 3-robot unstructured runs.
-CLAIMED: dict[tuple[str, str], tuple[str, str, Judged]] = {
-    ("decreasing", "Fig. 6, §5.1"): (
-        "exploration time decreases as the split rate (approximation quality) increases",
-        "exploration time ... decreases when the quality of the approximation ... increases",
-        (*_T99, SR, "", claims.FallsAlong(-0.5), 0, ()),
-    ),
-    ("converge", "Fig. 6, §5.1, §6"): (
-        "with more bandwidth the polygon method converges to coordination without approximation",
-        "for an increasing communication link bandwidth the performance of our approach converges",
-        (*_T99, SR, EXACT, claims.ConvergesAtTop(0.10), 0, ()),
-    ),
-    ("slower", "§4, §5.1"): (
-        "decentralised coordination explores slower than centralised Burgard et al.",
-        "decentralized coordination leads to worse results than the original centralized approach",
-        (*_T99, EXACT, CENTRALISED, claims.PairedAbove(), 0, ()),
-    ),
-    ("advantage", "§5.1"): (
-        "the advantage of centralised coordination grows with the team (the maps differ too)",
-        "The relative advantage ... increases with the number of robots.",
-        (*_T99, EXACT, CENTRALISED, claims.RatioGrows(), 3, ()),
-    ),
-    ("similar", "§5.2"): (
-        "at a low split rate the polygon method explores about as fast as centralised coordination",
-        "even with low bandwidth connections ... a similar coordination result can be achieved",
-        (*_T99, f"{SR} {LOW_SPLIT_RATE:g}", CENTRALISED, claims.RatioWithin(0.15, 0.30), 0, ()),
-    ),
-    ("tpt", "Table 1, §5.3"): (
-        "TPT is a high share at low split rates (paper 31.12% at 0.04), negligible at high (0.76%)",
-        "the transmission of the goal points causes a high amount of the overall traffic (33.12%)",
-        ("shares", "share of bytes (%)", SR, "", claims.AtEnds("TPT", 20.0, 5.0), 1, ()),
-    ),
-    ("trends", "Table 1"): (
-        "each package type's share changes with the split rate as in the paper",
-        "The relative network traffic introduced by the different packages for different ... (SR)",
-        ("shares", "share of bytes", SR, "", claims.TrendsAsPaper(PAPER_TABLE1, 0.3, 3), 0, ()),
-    ),
-    ("error", "Table 2, §5.4"): (
-        "the higher the split rate, the lower the error (paper: 8.92, 0.86, 0.19% at 0.1, 1, 10)",
-        "the higher the SR the lower is the average approximation error",
-        ("error", "error (%)", SR, "", claims.FallsNearPaper(PAPER_TABLE2, 2.0), 2, ()),
-    ),
-    ("fragment", "Fig. 7, §5.3"): (
-        "polygons need only a fragment of the traffic of raw scans, even at high split rates",
-        "Even in the case of high ... refinement rates, our approach requires only a fragment",
-        ("traffic", "bytes", SR, RAW, claims.RatioBound(0.5, loose=1.0), 3, (RAW_HALF,)),
-    ),
-    ("cheaper", "§2"): (
-        "polygonal approximations can be communicated more efficiently than the full map",
-        "these polygonal approximations ... can be more efficiently communicated",
-        ("map_bytes", "map bytes", SR, EXACT, claims.RatioBound(1.0, strict=True), 2, ()),
-    ),
+#: ``id | where | the claim in our words | the paper's words``. Time claims read Fig. 6's
+#: settings; Tables 1 and 2 the 3-robot unstructured runs.
+CLAIM_WORDS = render.text_rows("""
+decreasing | Fig. 6, §5.1 | exploration time decreases as the split rate (approximation
+  quality) increases | exploration time ... decreases when the quality of the approximation
+  ... increases
+converge | Fig. 6, §5.1, §6 | with more bandwidth the polygon method converges to coordination
+  without approximation | for an increasing communication link bandwidth the performance of
+  our approach converges
+slower | §4, §5.1 | decentralised coordination explores slower than centralised Burgard et al.
+  | decentralized coordination leads to worse results than the original centralized approach
+advantage | §5.1 | the advantage of centralised coordination grows with the team (the maps
+  differ too) | The relative advantage ... increases with the number of robots.
+similar | §5.2 | at a low split rate the polygon method explores about as fast as centralised
+  coordination | even with low bandwidth connections ... a similar coordination result can be
+  achieved
+tpt | Table 1, §5.3 | TPT is a high share at low split rates (paper 31.12% at 0.04), negligible
+  at high (0.76%) | the transmission of the goal points causes a high amount of the overall
+  traffic (33.12%)
+trends | Table 1 | each package type's share changes with the split rate as in the paper | The
+  relative network traffic introduced by the different packages for different ... (SR)
+error | Table 2, §5.4 | the higher the split rate, the lower the error (paper: 8.92, 0.86, 0.19%
+  at 0.1, 1, 10) | the higher the SR the lower is the average approximation error
+fragment | Fig. 7, §5.3 | polygons need only a fragment of the traffic of raw scans, even at high
+  split rates | Even in the case of high ... refinement rates, our approach requires only a
+  fragment
+cheaper | §2 | polygonal approximations can be communicated more efficiently than the full map
+  | these polygonal approximations ... can be more efficiently communicated
+""")
+_SOME, _T99, _LOW = claims.SOME_WEAK, ("time", "T99 (ticks)"), f"{SR} {LOW_SPLIT_RATE:g}"
+_FALLS = claims.Trend("rank", along="family", rho=0.5, paired=True, needs=_SOME)
+_GROWS = claims.Trend("ratio", "rises", along="cells", bound=1, digits=3, needs=claims.EVERY_WEAK)
+_SIGNS = claims.SignsAsPaper(PAPER_TABLE1, 0.3, needs=claims.Needs(partly_holds=0.6))  # 3 of 5
+_ONE_OR_ALL = claims.Needs(partly_holds=0, partly_weakly=1)  # one ratio holds, or all weakly
+_FRAGMENT = claims.Ratio(
+    "<=", 0.5, weak=1, members="each", shown=(RAW_HALF,), digits=3, needs=_ONE_OR_ALL
+)
+_CONVERGES = claims.Paired("=", tolerance=0.1, members="top", needs=_SOME)
+_CHEAPER = claims.Ratio("<", 1, members="each", needs=_SOME)
+#: Claim id -> the values read and their label, the arms, the rule, its digits.
+JUDGED: dict[str, tuple[str, str, str, str, claims.Rule, int]] = {
+    "decreasing": (*_T99, SR, "", _FALLS, 0),
+    "converge": (*_T99, SR, EXACT, _CONVERGES, 0),
+    "slower": (*_T99, EXACT, CENTRALISED, claims.Paired(">", needs=_SOME), 0),
+    "advantage": (*_T99, EXACT, CENTRALISED, _GROWS, 0),
+    "similar": (*_T99, _LOW, CENTRALISED, claims.Ratio("<=", 1.15, weak=1.30, needs=_SOME), 0),
+    "tpt": ("shares", "share of bytes (%)", SR, "", claims.AtEnds("TPT", 20.0, 5.0), 1),
+    "trends": ("shares", "share of bytes", SR, "", _SIGNS, 0),
+    "error": ("error", "error (%)", SR, "", claims.NearPaper(PAPER_TABLE2, 2.0), 2),
+    "fragment": ("traffic", "bytes", SR, RAW, _FRAGMENT, 0),
+    "cheaper": ("map_bytes", "map bytes", SR, EXACT, _CHEAPER, 0),
 }
-CLAIMS = tuple(Claim(i, at, ours, paper, *how) for (i, at), (ours, paper, how) in CLAIMED.items())
+CLAIMS = tuple(Claim(i, at, ours, paper, *JUDGED[i]) for i, at, ours, paper in CLAIM_WORDS)
 
 _BOTH = ("meier-polygon", "burgard")
 #: Choices the paper leaves open (docs/reproductions/meier2006.md); claims are judged under each.
@@ -324,8 +318,8 @@ def _settings(quick: bool) -> Lines:
     size, ticks = ("40 x 40", 1000) if quick else ("100 x 100", 3000)
     rates = "; ".join(", ".join(f"{r:g}" for r in x) for *_, x, _ in stores(quick).values())
     seeds = ", ".join(str(len(x)) for *_, x in stores(quick).values())
-    rows = f"""maps (Fig. 6; Fig. 7) | unstructured, corridor; the same; no size | generators \
-`unstructured`, `corridor`, {size} cells, map_seed {MAP_SEED}
+    rows = f"""maps (Fig. 6; Fig. 7) | unstructured, corridor; the same; no size | generators
+  `unstructured`, `corridor`, {size} cells, map_seed {MAP_SEED}
 team sizes | 3, 5; 2 | {teams}
 split rates (splits/s) | 0.04 ... 25 (Table 1) | {rates}
 sensor; 1 tick | laser, range not given; - | 360°, {SENSOR_RANGE} cells (5 m at 0.5 m); 1 s, 1 cell
@@ -335,8 +329,7 @@ baselines | Burgard et al.; theirs with our coordination | `burgard`, `meier-pol
 raw scans (Fig. 7) | each robot sends its sweeps | {SCAN_BYTES} B/robot/tick + `status`, `assign`
 approximation error | against a central map (%) | own cells own polygons get wrong (run mean)
 runs | not given | {seeds} seeds, start `together`, at most {ticks} ticks"""
-    lines = [line.split(" | ") for line in rows.splitlines()]
-    return render.settings_table([(a, b, c) for a, b, c in lines], NOTES)
+    return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], NOTES)
 
 
 COLOURS = {"polygon": "#17becf", "ours": "#17becf", "paper": "#999999", CENTRALISED: "#1f77b4"}
@@ -353,8 +346,8 @@ def _name(cell: Any) -> str:
 
 
 def _xs(arms: Mapping[str, Summary], flat: Sequence[str] = ()) -> dict[str, Any]:
-    """A :func:`render.lines_figure` panel: ``SR`` arms by log10 rate, ``flat`` arms level."""
-    xs = {round(math.log10(level(a)), 2): arms[a] for a in family(arms, SR)}
+    """A :func:`render.figure` panel: ``SR`` arms by rate, ``flat`` arms level."""
+    xs = {level(a): arms[a] for a in family(arms, SR)}
     return {"polygon": xs, **{a: dict.fromkeys(xs, arms[a]) for a in flat if a in arms}}
 
 
@@ -364,9 +357,8 @@ def _with_paper(ours: Mapping[str, Summary], paper: Mapping[float, float]) -> di
 
 
 def _figure(out: Path, name: str, title: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
-    axes: dict[str, Any] = {"xlabel": "log10 split rate (splits/s)", "ylabel": ylabel}
-    path = render.lines_figure(panels, out / name, title=title, colours=COLOURS, log=log, **axes)
-    return [f"![{title}]({name})", ""] if path else []
+    axes = {"xlabel": "split rate (splits/s)", "ylabel": ylabel, "colours": COLOURS, "log": log}
+    return render.figure(out, name, panels, title=title, logx=True, **axes)
 
 
 def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
@@ -376,8 +368,6 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     t = claim_tables(values, quick)
     s = {metric: render.summaries(v) for metric, v in {**values, **t}.items()}
     one, fig7, low = next(iter(t["error"])), next(iter(t["traffic"])), f"{SR} {LOW_SPLIT_RATE:g}"
-    reached = values["reached"].items()
-    flags = {(c, a): "*" for c, arms in reached for a, x in arms.items() if min(x.values()) < 1}
     ratios = [
         f"{_name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
         for c, x in s["rate"].items()
@@ -386,7 +376,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     lines = render.report_head(TITLE, CITATION, statuses, QUICK_NOTE if quick else None)
     lines += [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
     lines += ["Ours: T99 (ticks); `*`: some runs never reached 99% and are left out.", ""]
-    lines += _table(t["time"], flags=flags)
+    lines += _table(t["time"], flags=render.unfinished(values["reached"]))
     panels = {_name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
     lines += _figure(out, "fig6_exploration_time.png", "Fig. 6", panels, "T99 (ticks)")
     lines += ["## Traffic (§2, §5.2, §5.3, Fig. 7)", "", TRAFFIC + ", ".join(ratios), ""]

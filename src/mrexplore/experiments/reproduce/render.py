@@ -5,7 +5,7 @@ fixed settings, grid and seeds), reads its runs back with :func:`tabulate` (metr
 functions of a run row, grouped ``cell -> arm -> seed``: the
 :data:`~mrexplore.experiments.reproduce.claims.Values` its claims judge), and writes
 ``report.md`` from the pieces here: :func:`report_head`, :func:`settings_table`,
-:func:`arm_table` (mean, sd, 95% CI and n per cell and arm), :func:`lines_figure`
+:func:`arm_table` (mean, sd, 95% CI and n per cell and arm), :func:`figure`
 and :func:`write_report`, which ends every report with the claims' verdicts.
 """
 
@@ -17,8 +17,6 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from mrexplore.experiments.reproduce.claims import CellKey, Claim, Values, claims_section, fmt
 from mrexplore.experiments.stats import Summary, summarize_metric
@@ -59,6 +57,22 @@ def sweeps_of(source: str, experiments: Iterable[Experiment]) -> dict[str, Sweep
     return {e.name: e.sweep(source) for e in experiments}
 
 
+def sweeps_for(
+    source: str, experiments: Callable[[bool], Iterable[Experiment]]
+) -> Callable[[bool], dict[str, Sweep]]:
+    """A reproduction's ``sweeps``: ``quick -> experiment name -> sweep``."""
+    return lambda quick: sweeps_of(source, experiments(quick))
+
+
+def text_rows(text: str) -> list[list[str]]:
+    """The rows of an ``a | b | c`` text table; an indented line continues its row.
+
+    >>> text_rows("a | b\\n  c | d\\ne | f")
+    [['a', 'b c', 'd'], ['e', 'f']]
+    """
+    return [row.split(" | ") for row in text.replace("\n  ", " ").strip().splitlines()]
+
+
 # ----------------------------------------------------------------- per-run values
 
 
@@ -77,6 +91,15 @@ def number(row: Row, key: str) -> float:
 def column(key: str) -> Metric:
     """The metric that reads one column (missing counts as 0)."""
     return lambda row: number(row, key)
+
+
+def measured(key: str) -> Metric:
+    """A column, nan where a run has none (a time never reached): missing, not 0.
+
+    >>> measured("T100")({"T100": 7}), measured("T100")({"T100": None})
+    (7.0, nan)
+    """
+    return lambda row: math.nan if row.get(key) is None else float(row[key])
 
 
 def bytes_of(types: Iterable[str], kind: str = "bytes") -> Metric:
@@ -105,6 +128,17 @@ def time_to(key: str) -> Metric:
 
 def reached(key: str) -> Metric:
     return lambda row: float(row.get(key) is not None)
+
+
+def unfinished(reached: Values) -> dict[tuple[CellKey, str], str]:
+    """:func:`arm_table` flags: ``*`` where a run of the arm did not get there (0 in
+    ``reached``)."""
+    return {
+        (c, a): "*"
+        for c, by_arm in reached.items()
+        for a, x in by_arm.items()
+        if min(x.values()) < 1
+    }
 
 
 def rows_of(stores: Mapping[str, Store]) -> tuple[list[dict[str, Any]], dict[str, int]]:
@@ -176,9 +210,18 @@ def summary_cell(s: Summary | None, digits: int = 0, flag: str = "") -> str:
     return f"{fmt(s.mean, digits)}{flag} (sd {fmt(s.sd, digits)}; CI {interval}; n {s.n})"
 
 
-def diff_cell(s: Summary, digits: int = 0) -> str:
-    """A paired difference: ``mean [low, high] (n)``."""
-    return f"{fmt(s.mean, digits)} [{fmt(s.ci_low, digits)}, {fmt(s.ci_high, digits)}] (n {s.n})"
+def blocks(*parts: str | Sequence[str]) -> Lines:
+    """Markdown blocks, a blank line after each: a string is a paragraph or a heading, a
+    list the lines of one block (a table, a figure's link).
+
+    >>> blocks("## A", ["| x |", "|---|"], [])
+    ['## A', '', '| x |', '|---|', '']
+    """
+    out: Lines = []
+    for part in parts:
+        lines = [part] if isinstance(part, str) else list(part)
+        out += [*lines, ""] if lines and lines[-1] else lines
+    return out
 
 
 def table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Lines:
@@ -243,65 +286,17 @@ def write_report(
 # -------------------------------------------------------------------------- figures
 
 
-def lines_figure(
-    panels: Mapping[str, Mapping[str, Mapping[Any, Summary]]],
-    path: Path,
-    *,
-    xlabel: str,
-    ylabel: str,
-    title: str,
-    colours: Mapping[str, str],
-    log: bool = False,
-) -> Path | None:
-    """One subplot per panel: mean against x, one line per arm, 95% CI bars, the
-    legend right of the panels. ``panels``: ``panel -> arm -> x -> summary``."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+Panels = Mapping[str, Mapping[str, Mapping[Any, Summary]]]
+"""``panel -> arm -> x -> summary``: a figure of :func:`~mrexplore.viz.plots.plot_arm_lines`."""
 
-    from mrexplore.viz.plots import LEGEND_WIDTH_IN, figure_legend_outside
 
-    if not panels:
-        return None
-    fig = Figure(figsize=(3.6 * len(panels) + LEGEND_WIDTH_IN, 3.6), dpi=110, layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, len(panels), squeeze=False)[0]
-    for ax, (panel, arms) in zip(axes, panels.items(), strict=True):
-        xs_all: set[Any] = set()
-        for i, (arm, points) in enumerate(arms.items()):
-            kept = [(x, s) for x, s in points.items() if math.isfinite(s.mean)]
-            kept = [(x, s) for x, s in kept if s.mean > 0] if log else kept
-            if not kept:
-                continue
-            xs_all |= {x for x, _ in kept}
-            xs = np.array([x for x, _ in kept], dtype=np.float64) + (i - len(arms) / 2) * 0.06
-            means = np.array([s.mean for _, s in kept])
-            below = np.nan_to_num(np.array([s.mean - s.ci_low for _, s in kept]))
-            above = np.nan_to_num(np.array([s.ci_high - s.mean for _, s in kept]))
-            if log:
-                below = np.minimum(below, means * 0.999)
-            ax.errorbar(
-                xs,
-                means,
-                yerr=np.vstack([below, above]),
-                color=colours.get(arm, "#000000"),
-                marker="o",
-                ms=4,
-                lw=1.3,
-                capsize=2,
-                label=arm,
-            )
-        if log:
-            ax.set_yscale("log")
-        ax.set_xticks(sorted(xs_all))
-        ax.set_xlabel(xlabel, fontsize=8)
-        ax.set_title(panel, fontsize=9)
-        ax.tick_params(labelsize=7)
-        ax.grid(True, alpha=0.3)
-    figure_legend_outside(fig, axes, fontsize=7)
-    axes[0].set_ylabel(ylabel, fontsize=8)
-    fig.suptitle(f"{title}\n(mean over seeds, error bars: 95% CI)", fontsize=10)
-    fig.savefig(path, format="png")
-    return path
+def figure(out: Path, name: str, panels: Panels, *, title: str, **axes: Any) -> Lines:
+    """:func:`~mrexplore.viz.plots.plot_arm_lines` into ``out/name`` and the report's link
+    to it (nothing when there is nothing to draw)."""
+    from mrexplore.viz.plots import plot_arm_lines
+
+    drawn = plot_arm_lines(panels, Path(out) / name, title=title, **axes)
+    return [f"![{title}]({name})", ""] if drawn else []
 
 
 def panels_of(
@@ -310,7 +305,7 @@ def panels_of(
     panel: Callable[[CellKey], str] = lambda c: str(c[0]),
     x: Callable[[CellKey], Any] = lambda c: c[-1],
 ) -> dict[str, dict[str, dict[Any, Summary]]]:
-    """:func:`lines_figure` input: ``panel -> arm -> x -> summary``, arms in the
+    """:func:`figure` input: ``panel -> arm -> x -> summary``, arms in the
     order of ``arms`` (the default panel: the cell's first key, x: its last)."""
     out: dict[str, dict[str, dict[Any, Summary]]] = {}
     for c, by_arm in summaries(values).items():

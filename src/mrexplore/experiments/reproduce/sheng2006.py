@@ -15,7 +15,6 @@ from mrexplore.experiments.reproduce.base import Reproduction
 from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values, fmt
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row
 from mrexplore.experiments.store import Store
-from mrexplore.experiments.sweep import Sweep
 
 ID = "sheng2006"
 TITLE = "Distributed multi-robot coordination in area exploration"
@@ -88,15 +87,6 @@ def case_of(row: Row) -> str:
     return f"bidding w3={W3_WITH if w3 is None or math.isnan(w3) else float(w3):g}"
 
 
-def measured(key: str) -> Metric:
-    """A column, nan where a run has none (a run that never completed): missing, not 0.
-
-    >>> measured("T100")({"T100": 7}), measured("T100")({"T100": None})
-    (7.0, nan)
-    """
-    return lambda row: math.nan if row.get(key) is None else float(row[key])
-
-
 def sync_bytes(row: Row) -> float:
     """Table 4's bytes of one run: the :data:`SYNC_TYPES` of its sharing mechanism.
 
@@ -107,11 +97,14 @@ def sync_bytes(row: Row) -> float:
     return render.bytes_of(SYNC_TYPES[row["sharing"]])(row)  # KeyError: not a Table 4 run
 
 
-BOTH: dict[str, Metric] = {"time": measured("T100"), "distance": measured("total_distance")}
+BOTH: dict[str, Metric] = {
+    "time": render.measured("T100"),
+    "distance": render.measured("total_distance"),
+}
 TABLE4_METRICS: dict[str, Metric] = {
     "bytes": sync_bytes,
     BROADCAST: render.bytes_of(BROADCAST_TYPES),
-    PARTITIONS: measured("partition_events"),
+    PARTITIONS: render.measured("partition_events"),
     "ticks": render.column("ticks"),
     **BOTH,
     **{t: render.bytes_of([t]) for types in SYNC_TYPES.values() for t in types},
@@ -129,7 +122,7 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
         runs = [r for r in rows if str(r["experiment"]).startswith(prefix)]
         return render.tabulate(runs, metrics, cell, arm, lambda c: c)  # w3 = 0, 1, 2 as text
 
-    fig11 = {"diameter": measured("group_diameter_mean")}
+    fig11 = {"diameter": render.measured("group_diameter_mean")}
     figs = of("fig12_13", BOTH, lambda r: (r["robots"],))
     fig17 = of("fig17", BOTH, lambda r: (int(r["comm_range"]),))  # whole cells in Fig. 17
     w3 = lambda r: (f"w3={r['param_w3']:g}",)  # noqa: E731
@@ -151,40 +144,31 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
 
 
 # ------------------------------------------------------------------- the claims
-#: Claim id (it names the figure or table) -> our statement.
-STATEMENTS = {
-    "fig11": "with the nearness measure the robots stay closer together (smaller diameter)",
-    "fig12_team": "the exploration time decreases as the number of robots increases",
-    "fig12_bidding": "bidding (w3=0) explores faster than random frontiers",
-    "fig12_nearness": "the nearness measure further reduces the exploration time",
-    "fig13_bidding": "bidding (w3=0) travels less than random frontiers",
-    "fig13_nearness": "the nearness measure further reduces the total distance",
-    "table4_tracking": "map update tracking reduces the map data exchanged, for w3 = 0, 1, 2",
-    "table4_w3": "the more weight on nearness (w3 = 0, 1, 2), the less map data is exchanged",
-    "fig17_falls": "without nearness, exploration time and distance fall as r_c grows",
-    "fig17_below16": "without nearness, the gain from a larger r_c is larger below r_c = 16",
-    "fig17_nearness": "with nearness, the gain from a larger r_c is smaller than without",
-}
-#: Claim id -> the paper's sentence (§5) it rests on.
-SENTENCES = {
-    "fig11": "by including the nearness measure ..., the robots tend to stay close to each other",
-    "fig12_team": "as the robot number increases, the total exploration time decreases",
-    "fig12_bidding": "The bidding algorithm effectively reduces the time compared with a random "
-    "exploration algorithm",
-    "fig12_nearness": "When the nearness measure is considered in the algorithm, the total "
-    "exploration time is further reduced",
-    "fig13_bidding": "similar saving in total distance traveled is achieved as the bidding "
-    "algorithm is adopted",
-    "fig13_nearness": "similar saving in total distance traveled is achieved as ... the "
-    "nearness measure is used",
-    "table4_tracking": "in all three cases, the map synchronization algorithm effectively "
-    "reduces the communication volumes",
-    "table4_w3": "as the nearness measure has more weight ..., less communication volume",
-    "fig17_falls": "for case 1, as the communication range increases, the exploration time "
-    "and traveled distance decrease",
-    "fig17_below16": "the efficiency gain ... is more significant when the ... range is below 16",
-    "fig17_nearness": "For case 2 ... the magnitude of the gain is not so significant ...",
-}
+#: ``id | our statement | the paper's sentence (§5)``; the id names the figure or table.
+CLAIM_WORDS = render.text_rows("""
+fig11 | with the nearness measure the robots stay closer together (smaller diameter) | by
+  including the nearness measure ..., the robots tend to stay close to each other
+fig12_team | the exploration time decreases as the number of robots increases | as the robot
+  number increases, the total exploration time decreases
+fig12_bidding | bidding (w3=0) explores faster than random frontiers | The bidding algorithm
+  effectively reduces the time compared with a random exploration algorithm
+fig12_nearness | the nearness measure further reduces the exploration time | When the nearness
+  measure is considered in the algorithm, the total exploration time is further reduced
+fig13_bidding | bidding (w3=0) travels less than random frontiers | similar saving in total
+  distance traveled is achieved as the bidding algorithm is adopted
+fig13_nearness | the nearness measure further reduces the total distance | similar saving in
+  total distance traveled is achieved as ... the nearness measure is used
+table4_tracking | map update tracking reduces the map data exchanged, for w3 = 0, 1, 2 | in all
+  three cases, the map synchronization algorithm effectively reduces the communication volumes
+table4_w3 | the more weight on nearness (w3 = 0, 1, 2), the less map data is exchanged | as the
+  nearness measure has more weight ..., less communication volume
+fig17_falls | without nearness, exploration time and distance fall as r_c grows | for case 1, as
+  the communication range increases, the exploration time and traveled distance decrease
+fig17_below16 | without nearness, the gain from a larger r_c is larger below r_c = 16 | the
+  efficiency gain ... is more significant when the ... range is below 16
+fig17_nearness | with nearness, the gain from a larger r_c is smaller than without | For case 2
+  ... the magnitude of the gain is not so significant ...
+""")
 LABELS = {
     "diameter": "mean group diameter (cells)",
     "time": "T100 (ticks)",
@@ -195,33 +179,42 @@ LABELS = {
 PAPER_RATIOS = {(f"w3={w3:g}",): p[0] / p[1] for w3, p in PAPER_TABLE4.items()}
 _COLUMNS = list(zip(*PAPER_TABLE4.values(), strict=True))  # by w3: without, with, their sds
 PAPER_COLUMNS = {WITHOUT: _COLUMNS[0], WITH: _COLUMNS[1]}
+_W3, _EVERY_WEAK = (CASE_WITH, CASE_WITHOUT), claims.EVERY_WEAK
+#: The paired difference's mean below 0 in every cell and its CI in at least half of them.
+_LOWER = claims.Paired("<", needs=claims.Needs(0.5, 1, partly_holds=None, partly_weakly=0.5))
+_STEPS = claims.Trend("steps", needs=_EVERY_WEAK)
+_TRACKING = claims.Ratio(">", 1, paper=PAPER_RATIOS, digits=1, needs=_EVERY_WEAK)
+_ALONG_W3 = claims.Needs(partly_holds=0, partly_weakly=1)  # or one falls at every step
+_W3_STEPS = claims.Trend(
+    "steps", along="cells", paper=PAPER_COLUMNS, shown=(PARTITIONS,), needs=_ALONG_W3
+)
+_BELOW_16 = claims.FallsFasterBelow(COMM_RANGE, "cell")  # 16: the paper's own r_c
+#: Claim id -> (values read, first arm, second arm, rule, further arms, digits).
+RULES: dict[str, tuple[str, str, str, claims.Rule, tuple[str, ...], int]] = {
+    "fig11": ("diameter", *_W3, claims.Paired("<"), (), 2),
+    "fig12_team": ("time", CASE_RANDOM, CASE_WITHOUT, _STEPS, (CASE_WITH,), 0),
+    "fig12_bidding": ("time", CASE_WITHOUT, CASE_RANDOM, _LOWER, (), 0),
+    "fig12_nearness": ("time_teams", *_W3, _LOWER, (), 0),
+    "fig13_bidding": ("distance", CASE_WITHOUT, CASE_RANDOM, _LOWER, (), 0),
+    "fig13_nearness": ("distance_teams", *_W3, _LOWER, (), 0),
+    "table4_tracking": ("table4", WITHOUT, WITH, _TRACKING, (), 0),
+    "table4_w3": ("table4", WITH, WITHOUT, _W3_STEPS, (), 0),
+    "fig17_falls": ("fig17", CASE_WITHOUT, "", claims.Trend("rank", rho=0.6), (), 0),
+    "fig17_below16": ("fig17", CASE_WITHOUT, "", _BELOW_16, (), 2),
+    "fig17_nearness": ("fig17", *_W3, claims.FallsLess(), (), 0),
+}
 
 
-def _claim(
-    id: str, metric: str, first: str, second: str, rule: Any, *seconds: str, digits: int = 0
-) -> Claim:
+def _claim(id: str, statement: str, sentence: str) -> Claim:
+    metric, first, second, rule, seconds, digits = RULES[id]
     figure = id.split("_")[0]
     where = f"Fig. {figure[3:]}" if figure.startswith("fig") else f"Table {figure[5:]}"
     label = LABELS[metric.removesuffix("_teams")] + (", 2+ robots" if "_teams" in metric else "")
     args = (metric, label, first, second, rule, digits, seconds)
-    return Claim(id, where, STATEMENTS[id], SENTENCES[id], *args)
+    return Claim(id, where, statement, sentence, *args)
 
 
-_LOWER, _W3 = claims.PairedMostlyLower(), (CASE_WITH, CASE_WITHOUT)
-_BELOW_16 = claims.FallsFasterBelow(COMM_RANGE, "cell")  # 16: the paper's own r_c
-CLAIMS = (
-    _claim("fig11", "diameter", *_W3, claims.WithMeans(claims.PairedLower(), 1), digits=2),
-    _claim("fig12_team", "time", CASE_RANDOM, CASE_WITHOUT, claims.Monotone("falls"), CASE_WITH),
-    _claim("fig12_bidding", "time", CASE_WITHOUT, CASE_RANDOM, _LOWER),
-    _claim("fig12_nearness", "time_teams", *_W3, _LOWER),
-    _claim("fig13_bidding", "distance", CASE_WITHOUT, CASE_RANDOM, _LOWER),
-    _claim("fig13_nearness", "distance_teams", *_W3, _LOWER),
-    _claim("table4_tracking", "table4", WITH, WITHOUT, claims.RatioWithinFactor(2, PAPER_RATIOS)),
-    _claim("table4_w3", "table4", WITH, WITHOUT, claims.FallAlong(PAPER_COLUMNS, (PARTITIONS,))),
-    _claim("fig17_falls", "fig17", CASE_WITHOUT, "", claims.RankTrend("falls", 0.6)),
-    _claim("fig17_below16", "fig17", CASE_WITHOUT, "", _BELOW_16, digits=2),
-    _claim("fig17_nearness", "fig17", *_W3, claims.FallsLess()),
-)
+CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 
 # ------------------------------------------------------------ readings of the paper
 INTERPRETATIONS = (
@@ -278,8 +271,7 @@ def experiments(quick: bool) -> list[Experiment]:
     ]
 
 
-def sweeps(quick: bool) -> dict[str, Sweep]:
-    return render.sweeps_of(ID, experiments(quick))
+sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------------------ report
@@ -386,10 +378,8 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         for name, (caption, key, xlabel, ylabel) in FIGURES.items():
             if caption.startswith(wheres):
                 panels = render.panels_of(values[key], CASES, lambda c: "")  # one panel
-                drawn = render.lines_figure(
-                    panels, out / name, xlabel=xlabel, ylabel=ylabel, title=caption, colours=COLOURS
-                )
-                lines += [f"![{caption}]({name})", ""] if drawn else []
+                axes = {"xlabel": xlabel, "ylabel": ylabel, "colours": COLOURS}
+                lines += render.figure(out, name, panels, title=caption, **axes)
         lines += _table4(values, out) if "Table 4" in wheres else []
     return render.write_report(out, lines, CLAIMS, values)
 

@@ -23,7 +23,6 @@ import pyarrow as pa
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
 from mrexplore.experiments.store import Store
-from mrexplore.experiments.sweep import Sweep
 
 ID = "wu2011"
 TITLE = "Balanced multi-robot exploration through a global optimization strategy"
@@ -81,8 +80,7 @@ def experiments(quick: bool) -> list[render.Experiment]:
     ]
 
 
-def sweeps(quick: bool) -> dict[str, Sweep]:
-    return render.sweeps_of(ID, experiments(quick))
+sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------- per-run numbers
@@ -148,14 +146,9 @@ def with_curve_means(rows: Sequence[render.Row], curves: pa.Table | None) -> lis
     return out
 
 
-def _value(key: str) -> render.Metric:
-    """A column as a float, nan when missing (``render.column`` reads 0: a count)."""
-    return lambda row: math.nan if row.get(key) is None else float(row[key])
-
-
-#: The numbers of a run the report and the claims read.
-METRICS = {"wtv_time": _value("wtv_time"), "epv_time": _value("epv_time")}
-METRICS |= {"wtv_final": _value(f"{CURVES[0]}_final"), "t100": _value("T100")}
+#: The numbers of a run the report and the claims read (nan when missing: not a count).
+METRICS = {"wtv_time": render.measured("wtv_time"), "epv_time": render.measured("epv_time")}
+METRICS |= {"wtv_final": render.measured(f"{CURVES[0]}_final"), "t100": render.measured("T100")}
 
 
 def run_values(rows: Sequence[render.Row], by: str = "start", arm: str = "strategy") -> Any:
@@ -200,60 +193,52 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, claims.Values]
     }
 
 
-def _claim(spec: tuple[Any, ...], statement: str, sentence: str) -> claims.Claim:
-    """``spec``: id, where, values read, rule[, arms: the first against the others]."""
-    id_, where, values, rule, *arms = spec
-    first, second, *seconds = arms[0] if arms else STRATEGIES
+#: ``id | where | our statement | the paper's sentence (§V.C)``, in the report's order.
+CLAIM_WORDS = render.text_rows("""
+fewer_robots | Fig. 6 | the more robots, the lower the WTV of every approach (unstructured,
+  together) | The WTV curves show that the more robots, the lower the WTVs of all approaches.
+fig6_lowest | Fig. 6 | with more than two robots KME has the lowest WTV (unstructured, together)
+  | When more than two robots are utilized, KME has the lowest WTV during the exploration
+fig6_final | Fig. 6 | the final WTV of KME is the smallest except with two robots (unstructured,
+  together) | WTV_final of regions (the value where each curve terminates) with KME is also the
+  smallest except for the two-robot case
+separate_lower | Fig. 7 vs 6 | every technique's WTV is lower with separate starts than with
+  starts together | The WTV curves of all techniques with the separate scheme are lower than the
+  ones with the together scheme.
+fig7_lowest | Fig. 7 | with separate starts KME again has the lowest WTV (unstructured, more than
+  two robots) | With the separate scheme, KME is again superior to the other methods.
+fig8_lowest | Fig. 8 | KME has the lowest EPV (most similar speeds) with 2-8 robots (unstructured,
+  separate) | with 2, 4, 6, and 8 robots, the eight regions are explored at a similar speed with
+  KME
+six_combinations | §V.C | KME has the lowest WTV with more than two robots in all six maps x
+  schemes | The same trend can be found in the six combinations of maps and starting schemes.
+zlot | §V.C | Zlot's method is not superior to Yamauchi's and Burgard's in WTV and EPV | Zlot's
+  algorithm behaves like [3]-[5] with respect to the WTV and EPV ... its solution is not
+  superior to [3]-[5]
+""")
+_LOWEST = claims.Means("<", best=True)  # KME's mean the lowest of the strategies'
+_FINAL = claims.Means("<", best=True, except_at=PAPER_KME_FINAL_NOT_LOWEST)
+_UNPAIRED = claims.Means("<", seeds="unpaired", brief=True)  # one seed is not one set-up
+#: Claim id -> the values read, the rule, the arms (the first against the others).
+RULES: dict[str, tuple[str, claims.Rule, tuple[str, ...]]] = {
+    "fewer_robots": ("wtv_time/fig6", claims.Trend("steps", needs=claims.EVERY_WEAK), STRATEGIES),
+    "fig6_lowest": ("wtv_time/fig6/teams", _LOWEST, STRATEGIES),
+    "fig6_final": ("wtv_final/fig6", _FINAL, STRATEGIES),
+    "separate_lower": ("wtv_time/schemes", _UNPAIRED, STARTS[::-1]),
+    "fig7_lowest": ("wtv_time/fig7/teams", _LOWEST, STRATEGIES),
+    "fig8_lowest": ("epv_time/fig8", _LOWEST, STRATEGIES),
+    "six_combinations": ("wtv_time/teams", claims.Means("<", best=True, brief=True), STRATEGIES),
+    "zlot": ("wtv_epv_time", claims.NotBelowAll(brief=True), ("zlot-market", *STRATEGIES[1:3])),
+}
+
+
+def _claim(id_: str, where: str, statement: str, sentence: str) -> claims.Claim:
+    values, rule, (first, second, *seconds) = RULES[id_]
     head = (id_, where, statement, sentence, values, LABELS[values.split("/")[0]], first, second)
     return claims.Claim(*head, rule, int(values.startswith("epv")), tuple(seconds))
 
 
-#: Our words for each claim and the paper's sentence (§V.C).
-CLAIMS = (
-    _claim(
-        ("fewer_robots", "Fig. 6", "wtv_time/fig6", claims.TrendForAll("falls")),
-        "the more robots, the lower the WTV of every approach (unstructured, together)",
-        "The WTV curves show that the more robots, the lower the WTVs of all approaches.",
-    ),
-    _claim(
-        ("fig6_lowest", "Fig. 6", "wtv_time/fig6/teams", claims.Lowest()),
-        "with more than two robots KME has the lowest WTV (unstructured, together)",
-        "When more than two robots are utilized, KME has the lowest WTV during the exploration",
-    ),
-    _claim(
-        ("fig6_final", "Fig. 6", "wtv_final/fig6", claims.Lowest(PAPER_KME_FINAL_NOT_LOWEST)),
-        "the final WTV of KME is the smallest except with two robots (unstructured, together)",
-        "WTV_final of regions (the value where each curve terminates) with KME is also the "
-        "smallest except for the two-robot case",
-    ),
-    _claim(
-        ("separate_lower", "Fig. 7 vs 6", "wtv_time/schemes", claims.Unpaired("<"), STARTS[::-1]),
-        "every technique's WTV is lower with separate starts than with starts together",
-        "The WTV curves of all techniques with the separate scheme are lower than the ones with "
-        "the together scheme.",
-    ),
-    _claim(
-        ("fig7_lowest", "Fig. 7", "wtv_time/fig7/teams", claims.Lowest()),
-        "with separate starts KME again has the lowest WTV (unstructured, more than two robots)",
-        "With the separate scheme, KME is again superior to the other methods.",
-    ),
-    _claim(
-        ("fig8_lowest", "Fig. 8", "epv_time/fig8", claims.Lowest()),
-        "KME has the lowest EPV (most similar speeds) with 2-8 robots (unstructured, separate)",
-        "with 2, 4, 6, and 8 robots, the eight regions are explored at a similar speed with KME",
-    ),
-    _claim(
-        ("six_combinations", "§V.C", "wtv_time/teams", claims.Lowest(brief=True)),
-        "KME has the lowest WTV with more than two robots in all six maps x schemes",
-        "The same trend can be found in the six combinations of maps and starting schemes.",
-    ),
-    _claim(
-        ("zlot", "§V.C", "wtv_epv_time", claims.NotBelowAll(), ("zlot-market", *STRATEGIES[1:3])),
-        "Zlot's method is not superior to Yamauchi's and Burgard's in WTV and EPV",
-        "Zlot's algorithm behaves like [3]-[5] with respect to the WTV and EPV ... its "
-        "solution is not superior to [3]-[5]",
-    ),
-)
+CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 
 #: Sensing every tick, a target is usually seen before it is reached: our `kme`,
 #: `nearest-frontier` and `burgard` then re-plan (`replan_on_target_explored`, default;
@@ -366,12 +351,11 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
             members = pa.table({k: [r[k] for r in here] for k in ("run_id", "strategy")})
             plot_curves(curves, members, out / name, y=curve, title=f"{figure}: {title}")
             lines += [f"![{figure}]({name})", ""]
-    colours = {s: strategy_colour(s) for s in STRATEGIES}
+    axes = {"xlabel": "robots", "colours": {s: strategy_colour(s) for s in STRATEGIES}}
     for metric in () if quick else CURVE_METRICS:  # quick: one map, shown above
         panels = render.panels_of(values[metric], STRATEGIES, lambda c: f"{c[0]}, start {c[1]}")
-        path, y = out / f"{metric[:3]}_all_combinations.png", LABELS[metric]
-        if render.lines_figure(panels, path, xlabel="robots", ylabel=y, title=y, colours=colours):
-            lines += [f"![{y}, all combinations]({path.name})", ""]
+        name, y = f"{metric[:3]}_all_combinations.png", LABELS[metric]
+        lines += render.figure(out, name, panels, title=y, ylabel=y, **axes)
     return render.write_report(out, lines, CLAIMS, tables(stores, quick))
 
 
