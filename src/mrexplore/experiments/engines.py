@@ -219,6 +219,18 @@ class LocalEngine(Engine):
                 future.cancel()
 
 
+def _optional(module: str, engine: str, what: str) -> Any:
+    """Import an extra's module, or a one-line :class:`EngineError` naming the extra."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise EngineError(
+            f"--engine {engine}: {what} is not installed; pip install 'mrexplore[{engine}]'"
+        ) from None
+
+
 class RayEngine(Engine):
     """Ray: an existing cluster by address, or a local instance."""
 
@@ -226,12 +238,7 @@ class RayEngine(Engine):
 
     def __init__(self, workers: int | None = None, address: str | None = None) -> None:
         super().__init__(workers, address)
-        try:
-            import ray
-        except ImportError:
-            raise EngineError(
-                "--engine ray: Ray is not installed; pip install 'mrexplore[ray]'"
-            ) from None
+        ray = _optional("ray", "ray", "Ray")
         self._ray = ray
         self._reaper: Any = None
         self._started = not ray.is_initialized()
@@ -325,12 +332,8 @@ class DaskEngine(Engine):
 
     def __init__(self, workers: int | None = None, address: str | None = None) -> None:
         super().__init__(workers, address)
-        try:
-            from distributed import Client, LocalCluster
-        except ImportError:
-            raise EngineError(
-                "--engine dask: Dask distributed is not installed; pip install 'mrexplore[dask]'"
-            ) from None
+        distributed = _optional("distributed", "dask", "Dask distributed")
+        Client, LocalCluster = distributed.Client, distributed.LocalCluster
         self._cluster: Any = None
         try:
             if address:
