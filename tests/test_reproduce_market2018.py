@@ -10,6 +10,7 @@ from pathlib import Path
 import pyarrow as pa
 import pytest
 
+from conftest import quick_reproduction
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import market2018 as repro
@@ -50,11 +51,7 @@ def _check_report(out: Path) -> str:
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("market2018-quick")
-    argv = ["reproduce", "market2018", "--quick", "--out", str(out), "--no-progress"]
-    # one interpretation keeps the suite short (it re-runs the 12 centralised runs)
-    assert main([*argv, "--interpretations", "baseline-replans-on-arrival"]) == 0
-    return out
+    return quick_reproduction(tmp_path_factory, "market2018", "baseline-replans-on-arrival")
 
 
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import quick_reproduction
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import sheng2006 as repro
@@ -55,11 +56,7 @@ def _check_report(out: Path) -> str:
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("sheng2006-quick")
-    argv = ["reproduce", "sheng2006", "--quick", "--out", str(out), "--no-progress"]
-    # one interpretation keeps the suite short (it re-runs the 28 quick runs)
-    assert main([*argv, "--interpretations", READING]) == 0
-    return out
+    return quick_reproduction(tmp_path_factory, "sheng2006", READING)
 
 
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:

@@ -13,6 +13,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
+from conftest import quick_reproduction
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import vazquez2005 as vz
@@ -56,11 +57,7 @@ def _check_report(out: Path, quick: bool) -> str:
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("vazquez2005-quick")
-    argv = ["reproduce", "vazquez2005", "--quick", "--out", str(out), "--no-progress"]
-    # one reading keeps the suite short: it re-runs the 8 vazquez-network runs only
-    assert main([*argv, "--interpretations", READING]) == 0
-    return out
+    return quick_reproduction(tmp_path_factory, "vazquez2005", READING)
 
 
 def test_quick_reproduction_through_the_cli(quick_run: Path) -> None:

@@ -12,6 +12,7 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
+from conftest import quick_reproduction
 from mrexplore.cli import main
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import wu2011 as repro
@@ -57,11 +58,7 @@ def _check_report(out: Path, figures: tuple[str, ...]) -> str:
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("wu2011-quick")
-    argv = ["reproduce", "wu2011", "--quick", "--out", str(out), "--no-progress"]
-    # one reading keeps the suite short (it re-runs the 8 quick KME runs only)
-    assert main([*argv, "--interpretations", READING]) == 0
-    return out
+    return quick_reproduction(tmp_path_factory, "wu2011", READING)
 
 
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:

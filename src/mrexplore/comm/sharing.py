@@ -116,6 +116,15 @@ class MapSharing(ABC):
         return {}
 
 
+def new_cells(observation: Observation) -> CellUpdates | None:
+    """The cells of ``observation`` the robot did not know yet (``None`` if there are none):
+    what a mechanism announces of its own sensing."""
+    new = observation.was_unknown
+    if not new.any():
+        return None
+    return CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
+
+
 def known_cells(belief: BeliefGrid) -> CellUpdates:
     """Every cell ``belief`` knows, as cell updates (raster order)."""
     rows, cols = np.nonzero(belief != UNKNOWN)
@@ -230,10 +239,9 @@ class BroadcastSharing(MapSharing):
     def on_observe(
         self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
     ) -> list[Message]:
-        new = observation.was_unknown
-        if not new.any():
+        payload = new_cells(observation)
+        if payload is None:
             return []
-        payload = CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
         size = cell_updates_size(int(payload.rows.size))
         return [Message(MAP_UPDATE, robot, BROADCAST, size, payload, tick)]
 

@@ -57,6 +57,7 @@ from mrexplore.comm.sharing import (
     Observation,
     joining_links,
     merge_many,
+    new_cells,
 )
 from mrexplore.grid.occupancy import BeliefGrid
 
@@ -122,11 +123,10 @@ class ShengSync(MapSharing):
     def on_observe(
         self, robot: int, tick: int, observation: Observation, belief: BeliefGrid
     ) -> list[Message]:
-        new = observation.was_unknown
-        if not new.any():
+        cells = new_cells(observation)
+        if cells is None:
             return []
         seq = int(self.last[robot, robot]) + 1
-        cells = CellUpdates(observation.rows[new], observation.cols[new], observation.values[new])
         delta = Delta(robot, seq, cells)
         self._store(robot, delta)
         return [Message(MAP_DELTA, robot, BROADCAST, deltas_size([delta]), (delta,), tick)]
