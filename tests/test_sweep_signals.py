@@ -76,8 +76,6 @@ def _start(tmp_path: Path, seeds: int, *extra: str) -> tuple[subprocess.Popen[by
             env={**os.environ, MARK: marker},
             stdout=subprocess.DEVNULL,
             stderr=stderr,
-            # as from a terminal: under nohup SIGHUP is ignored, and the sweep keeps it so
-            preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_DFL),
         )
     return process, out, marker
 
