@@ -24,7 +24,7 @@ import numpy as np
 from mrexplore.comm import messages
 from mrexplore.experiments.reproduce import render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import CellKey, Claim, Interpretation, Means, Values
+from mrexplore.experiments.reproduce.claims import CellKey, Claim, Means, Values
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row, bytes_by_type
 from mrexplore.experiments.store import Store
 from mrexplore.strategies.market_occupancy import WEIGHT_REQUEST, WEIGHTS
@@ -263,24 +263,17 @@ _ARRIVAL = (
     '§III.B "at the moment when the mobile robot reach the goal, mission is over and a '
     'weight calculation request is sent to the others"'
 )
-INTERPRETATIONS = (
-    Interpretation(
-        "baseline-replans-on-arrival",
-        f"{_ARRIVAL}, as the rule of the centralised baseline too",
-        "the centralised baseline also re-plans on arrival only "
-        "(`burgard` `replan_on_target_explored=false`), the trigger of the paper's method",
-        {"replan_on_target_explored": False},
-        ("burgard",),
-    ),
-    Interpretation(
-        "both-replan-when-explored",
-        f"{_ARRIVAL}, as one re-plan trigger among the baseline's",
-        "market-occupancy also re-plans once its target is explored "
-        "(`replan_on_target_explored=true`), the trigger of the baseline",
-        {"replan_on_target_explored": True},
-        ("market-occupancy",),
-    ),
-)
+#: ``name | sentence | reading | overrides | strategies``.
+INTERPRETATIONS = render.readings(f"""
+baseline-replans-on-arrival | {_ARRIVAL}, as the rule of the centralised baseline too | the
+  centralised baseline also re-plans on arrival only (`burgard`
+  `replan_on_target_explored=false`), the trigger of the paper's method |
+  replan_on_target_explored=false | burgard
+both-replan-when-explored | {_ARRIVAL}, as one re-plan trigger among the baseline's |
+  market-occupancy also re-plans once its target is explored
+  (`replan_on_target_explored=true`), the trigger of the baseline |
+  replan_on_target_explored=true | market-occupancy
+""")
 
 
 # ------------------------------------------------------------------------ sweeps

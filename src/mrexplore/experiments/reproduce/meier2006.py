@@ -17,7 +17,7 @@ import numpy as np
 from mrexplore.comm.bytes import HEADER_BYTES, SCAN_BEAM_BYTES
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values, family, fmt, level
+from mrexplore.experiments.reproduce.claims import Claim, Values, family, fmt, level
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row, number
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
@@ -238,33 +238,21 @@ JUDGED: dict[str, tuple[str, str, str, str, claims.Rule, int]] = {
 }
 CLAIMS = tuple(Claim(i, at, ours, paper, *JUDGED[i]) for i, at, ours, paper in CLAIM_WORDS)
 
-_BOTH = ("meier-polygon", "burgard")
-#: Choices the paper leaves open (docs/reproductions/meier2006.md); claims are judged under each.
-INTERPRETATIONS = (
-    Interpretation(
-        "replan-on-arrival",
-        '§4 "Whenever a robot selects a new target location, it broadcasts its decision"',
-        "a robot selects a new target (the paper does not say when) only on arrival or blocked, "
-        "not also once its target is explored: `replan_on_target_explored=false`, both arms",
-        {"replan_on_target_explored": False},
-        _BOTH,
-    ),
-    Interpretation(
-        "every-target-discounts",
-        '§5.3 "target point transmissions (TPT) to publish chosen target locations to robots '
-        'with lower priority" against Algorithm 1 "for all received targets"',
-        "every received target discounts, not only those of lower ids (`respect_priority=false`)",
-        {"respect_priority": False},
-        ("meier-polygon",),
-    ),
-    Interpretation(
-        "raw-path-cost",
-        "§4 \"V_t' refers to the cost of reaching target location t'\" (traded by beta, no value)",
-        "V is the path length in cells, not scaled to [0, 1] (`normalize_cost=false`, both arms)",
-        {"normalize_cost": False},
-        _BOTH,
-    ),
-)
+#: Choices the paper leaves open (docs/reproductions/meier2006.md); claims are judged under
+#: each. ``name | sentence | reading | overrides | strategies``.
+INTERPRETATIONS = render.readings("""
+replan-on-arrival | §4 "Whenever a robot selects a new target location, it broadcasts its
+  decision" | a robot selects a new target (the paper does not say when) only on arrival or
+  blocked, not also once its target is explored: `replan_on_target_explored=false`, both arms |
+  replan_on_target_explored=false | meier-polygon, burgard
+every-target-discounts | §5.3 "target point transmissions (TPT) to publish chosen target
+  locations to robots with lower priority" against Algorithm 1 "for all received targets" |
+  every received target discounts, not only those of lower ids (`respect_priority=false`) |
+  respect_priority=false | meier-polygon
+raw-path-cost | §4 "V_t' refers to the cost of reaching target location t'" (traded by beta, no
+  value) | V is the path length in cells, not scaled to [0, 1] (`normalize_cost=false`, both
+  arms) | normalize_cost=false | meier-polygon, burgard
+""")
 
 # ------------------------------------------------------------------------ tables
 

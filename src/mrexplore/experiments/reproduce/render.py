@@ -11,6 +11,7 @@ and :func:`write_report`, which ends every report with the claims' verdicts.
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -18,7 +19,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mrexplore.experiments.reproduce.claims import CellKey, Claim, Values, claims_section, fmt
+from mrexplore.experiments.reproduce.claims import (
+    CellKey,
+    Claim,
+    Interpretation,
+    Values,
+    claims_section,
+    fmt,
+)
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -71,6 +79,34 @@ def text_rows(text: str) -> list[list[str]]:
     [['a', 'b c', 'd'], ['e', 'f']]
     """
     return [row.split(" | ") for row in text.replace("\n  ", " ").strip().splitlines()]
+
+
+def readings(text: str) -> tuple[Interpretation, ...]:
+    """Interpretations from a ``name | sentence | reading | overrides | strategies`` text
+    table (:func:`text_rows`): overrides ``key=value`` separated by spaces, the value JSON
+    or else text, a ``scenario.`` key a scenario setting; strategies separated by commas,
+    ``*`` for every run.
+
+    >>> (one,) = readings("fast | §2 'a moves' | a waits | w=1.5 scenario.sharing=full | a, b")
+    >>> one.set, one.scenario, one.strategies
+    ({'w': 1.5}, {'sharing': 'full'}, ('a', 'b'))
+    """
+    out = []
+    for name, sentence, reading, overrides, strategies in text_rows(text):
+        pairs = [item.split("=", 1) for item in overrides.split()]
+        values = {key: _json_or_text(value) for key, value in pairs}
+        scenario = {k.removeprefix("scenario."): v for k, v in values.items() if "." in k}
+        set_ = {k: v for k, v in values.items() if "." not in k}
+        chosen = tuple(s.strip() for s in strategies.split(",") if s.strip() not in ("*", ""))
+        out.append(Interpretation(name, sentence, reading, set_, chosen, scenario))
+    return tuple(out)
+
+
+def _json_or_text(value: str) -> Any:
+    try:
+        return json.loads(value)
+    except json.JSONDecodeError:
+        return value
 
 
 # ----------------------------------------------------------------- per-run values

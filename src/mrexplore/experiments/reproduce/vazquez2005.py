@@ -18,7 +18,7 @@ import numpy as np
 
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import CellKey, Claim, Interpretation, Rule, Values
+from mrexplore.experiments.reproduce.claims import CellKey, Claim, Rule, Values
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Row
 from mrexplore.experiments.store import Store, StoreError
 
@@ -284,102 +284,48 @@ CLAIMS = tuple(
     for label, digits in [_LABELS[metric]]
 )
 
-_ARRIVAL = (
-    '§3.3 "When P(x, y) = f(x, y) ... the robot had arrived to the frontier. In this case the '
-    'exploration algorithm its executed"; §2.1 (Yamauchi) "Each robot heads for its closest '
-    'frontier"'
-)
 _BRIDGE = (
     '§3.1 "A pair of robots impose mutual motion constraints only if they constitute a '
     "solitary bridge connection according to the current network topology and if the signal "
     'strength among the pair of robots falls below a threshold"'
 )
-_NONE_IN_ZONE = (
-    '§3.3.1 "When no frontier cells are found the robot computes a path to the current '
-    'position of the other robot in the bridge connection"'
-)
-_LESSENED = (
-    '§3.2 "The utility expected by a robot considering moving to a particular frontier is '
-    'lessened if there are any robots near that destination"'
-)
-
-
-def _reading(name: str, sentence: str, reading: str, **params: Any) -> Interpretation:
-    """A reading of one of vazquez-network's rules (its page lists each with its default)."""
-    ((key, value),) = params.items()
-    return Interpretation(name, sentence, f"{reading} (`{key}={value}`)", params, (VAZQUEZ,))
-
-
-INTERPRETATIONS = (
-    Interpretation(
-        "both-replan-when-explored",
-        _ARRIVAL,
-        "both methods also choose a new frontier as soon as theirs is seen from afar "
-        "(`replan_on_target_explored=true` for both; default false for both)",
-        {"replan_on_target_explored": True},
-        (VAZQUEZ, YAMAUCHI),
-    ),
-    Interpretation(
-        "positions-every-tick",
-        '§4 "each broadcasts its sensorial information every half second"',
-        "half a second is one body length of travel (one tick), not two: `vazquez-network` "
-        "broadcasts its position every tick (`position_period=1`; default 2)",
-        {"position_period": 1},
-        (VAZQUEZ,),
-    ),
-    Interpretation(
-        "maps-on-reconnection",
-        '§4 "The information arrives by multi hops to all the members of the team"',
-        "robots also exchange their whole maps when sub-networks join (`full` sharing, for "
-        "both methods), as in Yamauchi's common map",
-        scenario={"sharing": "full"},
-    ),
-    _reading(
-        "every-bridge-constrains",
-        _BRIDGE,
-        "every bridge neighbour constrains, stretched or not",
-        constrain_bridges="always",
-    ),
-    _reading(
-        "convoy",
-        _NONE_IN_ZONE,
-        "the end nearer the root leads and the others follow it, a convoy",
-        no_frontier_rule="convoy",
-    ),
-    _reading(
-        "zone-around-partner",
-        '§3.3.1 "the search of frontier cells is constrained to the comfort zone between the '
-        'pair of robots"',
-        "a stretched robot searches around the other robot only, not between the two",
-        zone_between_pair=False,
-    ),
-    _reading(
-        "destination-zone",
-        _BRIDGE,
-        "the destination must also lie in the comfort zone of the partner's destination "
-        "(not in the paper)",
-        zone_includes_targets=True,
-    ),
-    _reading(
-        "discount-destinations",
-        _LESSENED,
-        "only other robots' announced destinations lessen the utility (Simmons)",
-        discount_around="destinations",
-    ),
-    _reading(
-        "utility-in-cells",
-        "§3.2, after Simmons: information gain minus cost",
-        "one unknown cell is worth one cell of travel, U in cells rather than ticks",
-        utility_unit="cells",
-    ),
-    _reading(
-        "replan-on-connectivity-change",
-        'Fig. 2 "When a change in behaviour is detected the robot will reevaluate its '
-        'current plan"',
-        "only a change into or out of achieve-connectivity makes it re-plan",
-        replan_on_behaviour="connectivity",
-    ),
-)
+#: ``name | the sentence it reads | how it reads it | overrides | strategies`` (the
+#: strategy's page lists each reading with its default).
+INTERPRETATIONS = render.readings(f"""
+both-replan-when-explored | §3.3 "When P(x, y) = f(x, y) ... the robot had arrived to the
+  frontier. In this case the exploration algorithm its executed"; §2.1 (Yamauchi) "Each robot
+  heads for its closest frontier" | both methods also choose a new frontier as soon as theirs
+  is seen from afar (`replan_on_target_explored=true` for both; default false for both) |
+  replan_on_target_explored=true | {VAZQUEZ}, {YAMAUCHI}
+positions-every-tick | §4 "each broadcasts its sensorial information every half second" | half
+  a second is one body length of travel (one tick), not two: `vazquez-network` broadcasts its
+  position every tick (`position_period=1`; default 2) | position_period=1 | {VAZQUEZ}
+maps-on-reconnection | §4 "The information arrives by multi hops to all the members of the
+  team" | robots also exchange their whole maps when sub-networks join (`full` sharing, for
+  both methods), as in Yamauchi's common map | scenario.sharing=full | *
+every-bridge-constrains | {_BRIDGE} | every bridge neighbour constrains, stretched or not
+  (`constrain_bridges=always`) | constrain_bridges=always | {VAZQUEZ}
+convoy | §3.3.1 "When no frontier cells are found the robot computes a path to the current
+  position of the other robot in the bridge connection" | the end nearer the root leads and
+  the others follow it, a convoy (`no_frontier_rule=convoy`) | no_frontier_rule=convoy |
+  {VAZQUEZ}
+zone-around-partner | §3.3.1 "the search of frontier cells is constrained to the comfort zone
+  between the pair of robots" | a stretched robot searches around the other robot only, not
+  between the two (`zone_between_pair=False`) | zone_between_pair=false | {VAZQUEZ}
+destination-zone | {_BRIDGE} | the destination must also lie in the comfort zone of the
+  partner's destination (not in the paper) (`zone_includes_targets=True`) |
+  zone_includes_targets=true | {VAZQUEZ}
+discount-destinations | §3.2 "The utility expected by a robot considering moving to a
+  particular frontier is lessened if there are any robots near that destination" | only other
+  robots' announced destinations lessen the utility (Simmons)
+  (`discount_around=destinations`) | discount_around=destinations | {VAZQUEZ}
+utility-in-cells | §3.2, after Simmons: information gain minus cost | one unknown cell is
+  worth one cell of travel, U in cells rather than ticks (`utility_unit=cells`) |
+  utility_unit=cells | {VAZQUEZ}
+replan-on-connectivity-change | Fig. 2 "When a change in behaviour is detected the robot will
+  reevaluate its current plan" | only a change into or out of achieve-connectivity makes it
+  re-plan (`replan_on_behaviour=connectivity`) | replan_on_behaviour=connectivity | {VAZQUEZ}
+""")
 
 # ------------------------------------------------------------------ the report
 

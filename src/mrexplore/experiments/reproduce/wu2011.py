@@ -244,24 +244,16 @@ CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 #: `nearest-frontier` and `burgard` then re-plan (`replan_on_target_explored`, default;
 #: the paper names no trigger of the baselines); `zlot-market` drops an explored goal.
 _STEP_11 = '§IV.D step 11 "Robots move to their targets until one robot arrives at its target"'
-INTERPRETATIONS = (
-    claims.Interpretation(
-        "kme-replans-on-arrival",
-        f"{_STEP_11}, as KME's only trigger",
-        "`kme` re-plans only when a robot arrives (or is blocked or has no goal), "
-        "`replan_on_target_explored=false`; the baselines keep their default triggers",
-        {"replan_on_target_explored": False},
-        ("kme",),
-    ),
-    claims.Interpretation(
-        "all-replan-on-arrival",
-        f"{_STEP_11}, as the trigger of every method that has one",
-        "`kme`, `nearest-frontier` and `burgard` all re-plan on arrival only "
-        "(`replan_on_target_explored=false`): KME and the baselines alike",
-        {"replan_on_target_explored": False},
-        ("kme", "nearest-frontier", "burgard"),
-    ),
-)
+#: ``name | sentence | reading | overrides | strategies``.
+INTERPRETATIONS = render.readings(f"""
+kme-replans-on-arrival | {_STEP_11}, as KME's only trigger | `kme` re-plans only when a robot
+  arrives (or is blocked or has no goal), `replan_on_target_explored=false`; the baselines keep
+  their default triggers | replan_on_target_explored=false | kme
+all-replan-on-arrival | {_STEP_11}, as the trigger of every method that has one | `kme`,
+  `nearest-frontier` and `burgard` all re-plan on arrival only
+  (`replan_on_target_explored=false`): KME and the baselines alike |
+  replan_on_target_explored=false | kme, nearest-frontier, burgard
+""")
 
 # ------------------------------------------------------------------------ report
 
