@@ -422,3 +422,30 @@ def test_w3_zero_and_random_frontier_are_the_papers_other_cases() -> None:
     random = simulate(Scenario(strategy="random-frontier", **base))
     assert without.status == random.status == "complete"
     assert without.result()["params"]["w3"] == 0.0
+
+
+def test_a_bidder_announcing_itself_to_new_members_keeps_its_bid() -> None:
+    """§3.3: a robot that heard a better bid "will wait for the winner to declare its
+    ID". When the better bidder's sub-network grows mid-session and it announces its
+    position to the newcomers, its bid stays live: the worse bidder must not win too."""
+    params = {"bid_time": 4}
+    low, high = ShengBidding(0, 3, **params), ShengBidding(1, 3, **params)
+    pair, trio = frozenset({0, 1}), frozenset({0, 1, 2})
+    sent_low = low.decide(_view(0, 1, position=(1, 4), team=pair)).messages
+    sent_high = high.decide(_view(1, 1, position=(4, 4), team=pair)).messages
+    assert sent_high[1].payload.value > sent_low[1].payload.value
+    # Tick 2: each hears the other; robot 1 re-bids for the new bidder, robot 0 waits.
+    rebid = low.decide(_view(0, 2, position=(1, 4), inbox=tuple(sent_high), team=pair))
+    assert rebid.goal is None
+    second = high.decide(_view(1, 2, position=(4, 4), inbox=tuple(sent_low), team=pair))
+    # Tick 3: robot 2 joins robot 1's sub-network; robot 1 announces itself to it.
+    announced = high.decide(_view(1, 3, position=(4, 4), inbox=tuple(rebid.messages), team=trio))
+    assert POSITION in _types(announced) and high.state == BIDDING
+    # From tick 3 robot 0 hears it; the session is still robot 1's until it declares.
+    inboxes = {3: second.messages, 4: announced.messages, 5: [], 6: []}
+    decisions = [
+        low.decide(_view(0, t, position=(1, 4), inbox=tuple(m), team=trio))
+        for t, m in inboxes.items()
+    ]
+    assert all(d.goal is None for d in decisions)
+    assert WINNER not in [t for d in decisions for t in _types(d)]

@@ -520,6 +520,9 @@ class ShengBidding(Strategy):
                 return Decision(messages=out)
             self.my_bid = rebid
             out.append(self._bid_message(rebid))
+        elif announced:  # the newcomers join the session, the others keep the bid live
+            assert self.my_bid is not None
+            out.append(self._bid_message(self.my_bid))
         if view.tick < self.expiry:
             return Decision(messages=out)
         assert self.my_bid is not None
@@ -540,21 +543,23 @@ class ShengBidding(Strategy):
     def _absorb(self, view: RobotView) -> tuple[bool, bool]:
         """Update the tables from the inbox; return (a winner declared, a new bidder)."""
         declared = new_bidder = False
-        bids: list[BidPayload] = []
+        bids = [
+            m.payload for m in view.inbox if m.type == BID and isinstance(m.payload, BidPayload)
+        ]
+        bidding = {bid.robot for bid in bids}
         for message in view.inbox:
             payload = message.payload
             if message.type == POSITION and isinstance(payload, PositionPayload):
                 self.positions[payload.robot] = payload.position
                 self.targets.pop(payload.robot, None)
-                self.bids.pop(payload.robot, None)
+                if payload.robot not in bidding:  # not bidding: its earlier bid is over
+                    self.bids.pop(payload.robot, None)
             elif message.type in (WINNER, TARGET) and isinstance(payload, TargetPayload):
                 self.targets[payload.robot] = payload.target
                 self.positions.pop(payload.robot, None)
                 if message.type == WINNER:
                     declared = True
                     self.bids.clear()  # the session is over; its losers bid again
-            elif message.type == BID and isinstance(payload, BidPayload):
-                bids.append(payload)
         for bid in bids:
             heard = self.bids.get(bid.robot)
             if heard is None:
