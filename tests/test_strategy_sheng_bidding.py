@@ -111,7 +111,7 @@ def _corridor() -> np.ndarray:
 
 
 def _bid(belief: np.ndarray, position: tuple[int, int], sensing: list[Any], **kw: Any) -> Any:
-    weights: dict[str, float] = {"w1": 1.0, "w2": 1.0, "w3": 1.5, "alpha": 0.5}
+    weights: dict[str, Any] = {"w1": 1.0, "w2": 1.0, "w3": 1.5, "alpha": 0.5}
     weights.update(kw)
     result = compute_bid(
         belief, position, sensing, [], sensor_range=2.0, comm_range=16.0, **weights
@@ -131,11 +131,19 @@ def test_bid_without_others_is_gain_minus_distance() -> None:
 def test_nearness_pulls_the_bid_towards_the_other_robot() -> None:
     # Another robot senses at (1, 7) (its disk, cols 5-9, holds no unknown cell).
     # lambda(1,3) = e^(-4/16) = 0.7788008; lambda(1,9) = e^(-2/16) = 0.8824969.
-    # g(1,3) = 2 - 3 + 1.5 * 0.7788008 = 0.1682012; g(1,9) = -1 + 1.3237454 = 0.3237454.
-    bid = _bid(_corridor(), (1, 6), [(1, 7)])
-    assert bid.target == (1, 9)
-    assert bid.value == pytest.approx(0.3237454, abs=1e-6)
-    assert bid.value == float(np.float32(bid.value))  # float32 on the wire
+    # Raw: g(1,3) = 2 - 3 + 1.5 * 0.7788008 = 0.1682012; g(1,9) = -1 + 1.3237454.
+    raw = _bid(_corridor(), (1, 6), [(1, 7)], units="raw")
+    assert raw.target == (1, 9)
+    assert raw.value == pytest.approx(0.3237454, abs=1e-6)
+    assert raw.value == float(np.float32(raw.value))  # float32 on the wire
+    # Cells (default): lambda in units of r_c = 16 cells: g(1,9) = -1 + 1.5 * 16 * 0.8824969.
+    cells = _bid(_corridor(), (1, 6), [(1, 7)])
+    assert cells.target == (1, 9) and cells.value == pytest.approx(20.179926, abs=1e-5)
+    # Unit-free: I over the 13 cells of the r_s = 2 disk, D over r_c.
+    free = _bid(_corridor(), (1, 6), [(1, 7)], units="unit-free")
+    expected = 2 / 13 - 3 / 16 + 1.5 * 0.8824969
+    assert free.target == (1, 9) and free.value == pytest.approx(expected, abs=1e-6)
+    assert (free.information, free.distance, free.nearness) == (2.0, 3.0, cells.nearness)
     # Without nearness (w3 = 0) the two cells tie again at -1.
     assert _bid(_corridor(), (1, 6), [(1, 7)], w3=0.0).target == (1, 3)
 

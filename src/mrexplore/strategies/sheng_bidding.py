@@ -25,7 +25,8 @@ sub-network) and **travelling** (it won a session and drives to its target).
 
       lambda_i = e^(-d_1/r_c) + alpha e^(-d_2/r_c) + ... + alpha^(n_k-2) e^(-d_(n_k-1)/r_c)
 
-* the net gain, eq. (2), :func:`net_gain`: ``g_i = w1 I_i - w2 D_i + w3 lambda_i``;
+* the net gain, eq. (2), :func:`net_gain`: ``g_i = w1 I_i - w2 D_i + w3 lambda_i``,
+  with ``lambda_i`` in units of ``r_c`` cells by default (``eq2_units``, below);
 * the bid ``B = max_i g_i`` (:func:`compute_bid`).
 
 §3.3 and Fig. 5, the bidding session (:class:`ShengBidding`): the bidder
@@ -48,6 +49,8 @@ name                           symbol  default  unit    meaning
                                                         (0 = the paper's "without nearness")
 ``alpha``                      α       0.5      -       fading factor of eq. (1), in [0, 1]
                                                         (the paper gives no value)
+``eq2_units``                  -       cells    -       units of eq. (2): ``cells``,
+                                                        ``raw`` or ``unit-free`` (below)
 ``comm_range``                 r_c     0        cells   communication range in eq. (1);
                                                         0 = the run's --comm-range, or
                                                         the paper's 16 when unlimited
@@ -113,9 +116,19 @@ Interpretations (where the paper is silent):
   from the other robot's cell; an unreachable one gives ``e^(-inf) = 0``.
 * **I_i** counts unknown cells of the disk without line of sight, as the paper
   defines it; the robot's own cell is never a candidate.
-* **Units.** ``I_i`` and ``D_i`` are raw cell counts and path lengths, as in the
-  paper; ``lambda_i <= 1 / (1 - alpha)``, so with the defaults the nearness term
-  is worth at most 3 cells of gain or distance.
+* **Units of eq. (2)** (``eq2_units``). The paper defines ``I_i`` as a number of
+  cells and ``D_i`` as a travel distance, and gives no unit for the sum; ``lambda_i``
+  is a pure number below ``1 / (1 - alpha)``. Added raw (``raw``), the nearness term
+  is worth at most 3 cells against gains of up to 49 cells and distances of tens:
+  at the paper's ``w3 = 1.5`` it changes the chosen cell in about one bid of ten, and
+  the clustering of Fig. 10 and the smaller traffic of Table 4 appear only at
+  ``w3`` of 15-50. Principle (stated before measuring): give each term a unit of
+  cells, keeping the paper's definitions of ``I_i`` and ``D_i``; eq. (1) measures
+  distance in units of ``r_c`` (``e^(-d/r_c)``), so one unit of ``lambda_i`` is ``r_c``
+  cells. Then near another robot (``d << r_c``) one cell farther from it costs
+  ``w3`` of gain, as one cell of travel costs ``w2``: the paper's weights 1, 1 and
+  1.5 compare per cell. ``unit-free`` is the other consistent reading: ``I_i`` over
+  the cells of the sensor disk, ``D_i`` over ``r_c``, ``lambda_i`` as it is.
 * **Winning with a stale target.** If the bid's target is no longer a reachable
   frontier cell when the robot wins, it recomputes its bid and goes to the new
   best cell.
@@ -170,6 +183,11 @@ from mrexplore.strategies.base import (
 )
 
 WINNER = "winner"
+EQ2_UNITS = ("cells", "raw", "unit-free")
+"""Readings of the units of eq. (2): ``cells`` (default), I_i and D_i in cells and
+lambda_i in units of r_c cells, the length its eq. (1) measures distance in;
+``raw``, the literal sum, lambda_i unscaled (at most 1 / (1 - alpha)); ``unit-free``,
+I_i over the cells of the sensor disk, D_i over r_c, lambda_i unscaled."""
 PAPER_R_C = 16.0
 """r_c of the paper's section 5, in cells: eq. (1)'s length scale when the run's
 communication range is unlimited (an infinite r_c would make every nearness term 1)."""
@@ -305,13 +323,15 @@ def compute_bid(
     w1: float,
     w2: float,
     w3: float,
+    units: str = "cells",
 ) -> tuple[Bid, npt.NDArray[np.float64]] | None:
     """§3.2: the bid ``B = max_i g_i`` of a robot at ``position`` over its frontier cells.
 
     ``sensing_positions`` and ``travel_targets`` describe the *other* robots of the
-    sub-network. Returns the bid and the robot's distance field (for its path), or
-    ``None`` when no frontier cell is reachable. Ties go to the first cell in
-    raster order.
+    sub-network. ``units`` puts the three terms of eq. (2) in one unit
+    (:data:`EQ2_UNITS`). Returns the bid and the robot's distance field (for its
+    path), or ``None`` when no frontier cell is reachable. Ties go to the first cell
+    in raster order.
     """
     frontier = frontier_mask(belief)
     if not frontier.any():
@@ -333,7 +353,12 @@ def compute_bid(
         lam = nearness(to_others, comm_range, alpha)
     else:
         lam = np.zeros(rows.size, dtype=np.float64)
-    g = net_gain(gain, distance, lam, w1, w2, w3)
+    scaled = (gain, distance, lam * comm_range)  # "cells": lambda in units of r_c cells
+    if units == "raw":
+        scaled = (gain, distance, lam)
+    elif units == "unit-free":
+        scaled = (gain / len(disk_offsets(sensor_range)), distance / comm_range, lam)
+    g = net_gain(*scaled, w1, w2, w3)
     best = int(np.argmax(g))
     bid = Bid(
         target=(int(rows[best]), int(cols[best])),
@@ -431,6 +456,9 @@ class ShengBidding(Strategy):
         "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2", low=0),
         "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3", low=0),
         "alpha": Param(0.5, "", "fading factor of eq. (1)", "α", low=0, high=1),
+        "eq2_units": Param(
+            "cells", "", "units of eq. (2)'s terms: cells, raw or unit-free", choices=EQ2_UNITS
+        ),
         "comm_range": Param(
             0.0,
             "cells",
@@ -658,6 +686,7 @@ class ShengBidding(Strategy):
             w1=float(self.p["w1"]),
             w2=float(self.p["w2"]),
             w3=float(self.p["w3"]),
+            units=str(self.p["eq2_units"]),
         )
 
     def _win(self, view: RobotView, out: list[Message]) -> Decision:
