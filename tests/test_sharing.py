@@ -56,8 +56,9 @@ def test_full_and_sheng_sync_give_identical_beliefs_after_a_merge(seed: int) -> 
     assert (full[0] != UNKNOWN).sum() > 100
 
 
-def test_sheng_sync_sends_fewer_map_bytes_on_the_table_4_scenario() -> None:
-    """Quick form of Sheng Table 4 (5 robots, 40 x 40, r_s = 4, r_c = 16, sense on arrival)."""
+def test_sheng_sync_sends_fewer_map_bytes_with_table_4_radios() -> None:
+    """Table 4's map and radios (5 robots, 40 x 40, r_s = 4, r_c = 16, sense on arrival),
+    with nearest-frontier and the robots starting apart: not Table 4's experiment."""
 
     def map_bytes(sharing: str, seed: int) -> int:
         record = simulate(

@@ -183,6 +183,7 @@ from mrexplore.strategies.base import (
 )
 
 WINNER = "winner"
+"""Message type of a winner declaration (robot id and target)."""
 EQ2_UNITS = ("cells", "raw", "unit-free")
 """Readings of the units of eq. (2): ``cells`` (default), I_i and D_i in cells and
 lambda_i in units of r_c cells, the length its eq. (1) measures distance in;
@@ -191,7 +192,6 @@ I_i over the cells of the sensor disk, D_i over r_c, lambda_i unscaled."""
 PAPER_R_C = 16.0
 """r_c of the paper's section 5, in cells: eq. (1)'s length scale when the run's
 communication range is unlimited (an infinite r_c would make every nearness term 1)."""
-"""Message type of a winner declaration (robot id and target)."""
 POSITION = "position"
 """Message type of a sensing-and-mapping robot's position."""
 
@@ -407,7 +407,7 @@ class SessionTiming:
     grace: int
     """``T_grace = t_d + 1`` (Proposition 1: ``T_grace > t_d``)."""
     bid: int
-    """``t_bid = max(bid_time, T_grace)``."""
+    """``t_bid = max(bid_time, t_d)``."""
     send_map_window: int
     """``T_win = t_bid - T_grace``."""
     declare_timeout: int
