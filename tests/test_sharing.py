@@ -108,3 +108,31 @@ def test_broadcast_sharing_runs_through_the_simulator_multi_hop() -> None:
     )
     assert set(record.bytes_by_type) == {"map_update"}
     assert record.status == "complete"
+
+
+def test_sheng_sync_counts_table_4_volumes_with_and_without_tracking() -> None:
+    """Sheng Table 4 from one run: at a merge, the bytes of steps 4-10 as sent, and what
+    the brute force would have sent then: each end's whole known map, plus its multicast
+    to the rest of the receiver's old sub-network."""
+    from mrexplore.comm.bytes import HEADER_BYTES, SEQUENCE_ENTRY_BYTES, cell_updates_size
+
+    sharing = make_sharing("sheng-sync")
+    sharing.bind(3, (6, 6))
+    beliefs = [new_belief((6, 6)) for _ in range(3)]
+    beliefs[0][0, :] = FREE  # robots 0 and 1 (one sub-network) know row 0
+    beliefs[1][0, :] = FREE
+    beliefs[2][5, :3] = OCCUPIED  # robot 2 (alone) knows three cells
+    apart = [frozenset({0, 1}), frozenset({2})]
+    sharing.on_topology(0, apart, frozenset({(0, 1)}), beliefs)
+    sent = sharing.on_topology(1, [frozenset({0, 1, 2})], frozenset({(0, 1), (1, 2)}), beliefs)
+    assert [(m.type, m.sender, m.dest) for m in sent] == [("seq_table", 1, 2), ("seq_table", 2, 1)]
+    for message in sent:  # nothing was observed: both answer with empty syncs
+        sharing.on_receive_all(message.dest, beliefs[message.dest], [message])
+    metrics = sharing.metrics()
+    tables = 2 * (HEADER_BYTES + 3 * SEQUENCE_ENTRY_BYTES)
+    assert metrics["sync_bytes_with_tracking"] == tables + 2 * HEADER_BYTES
+    # Robot 1's 6 cells to robot 2 (alone: no multicast); robot 2's 3 cells to robot 1,
+    # which would multicast them on to robot 0.
+    without = cell_updates_size(6) + 2 * cell_updates_size(3)
+    assert metrics["sync_bytes_without_tracking"] == without
+    assert (metrics["sync_merges"], metrics["sync_cells_per_merge"]) == (1, 0.0)

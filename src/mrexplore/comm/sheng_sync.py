@@ -34,12 +34,24 @@ sensed them (cells it already knew from others are not re-announced); a robot
 that receives a delta out of order stores it but advances ``last[p]`` only over a
 contiguous run; if the link breaks during steps 4-10 the missing messages are
 counted as lost and the next merge repairs the tables.
+
+Table 4's two volumes, from the same run (:meth:`ShengSync.metrics`): Sheng et al.
+"record the volumes of map data exchanged and compare with the volumes of map data
+that are supposed to be exchanged if the map update tracking scheme is not used".
+At every merge we count the bytes of the messages of steps 4-10 as they are sent
+(``sync_bytes_with_tracking``) and, beside them, what §4's brute force would have
+sent at the same moment (``sync_bytes_without_tracking``): each of the two robots
+its whole known map (5 bytes a cell, as ``full`` sharing), and each the map it
+received to the rest of its old sub-network. Both count a message once, whatever
+its number of hops (the network's ledger counts every hop); ``sync_merges`` and
+``sync_cells_per_merge`` say how many merges and how many cells each synchronised.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -49,6 +61,7 @@ from mrexplore.comm.bytes import (
     CELL_UPDATE_BYTES,
     HEADER_BYTES,
     SEQUENCE_ENTRY_BYTES,
+    cell_updates_size,
 )
 from mrexplore.comm.messages import MAP_DELTA, MAP_MULTICAST, MAP_SYNC, SEQ_TABLE, Message
 from mrexplore.comm.sharing import (
@@ -59,7 +72,7 @@ from mrexplore.comm.sharing import (
     merge_many,
     new_cells,
 )
-from mrexplore.grid.occupancy import BeliefGrid
+from mrexplore.grid.occupancy import UNKNOWN, BeliefGrid
 
 DELTA_HEADER_BYTES = SEQUENCE_ENTRY_BYTES  # discoverer uint16 + seq uint32
 
@@ -97,6 +110,7 @@ class ShengSync(MapSharing):
         self.last: npt.NDArray[np.int64] = np.zeros((n_robots, n_robots), dtype=np.int64)
         self.previous: list[frozenset[int]] = []
         self.old_group: dict[tuple[int, int], frozenset[int]] = {}
+        self.merges = self.with_tracking = self.without_tracking = self.synced_cells = 0
 
     # ------------------------------------------------------------ tables
     def _store(self, robot: int, delta: Delta) -> bool:
@@ -141,11 +155,19 @@ class ShengSync(MapSharing):
         messages: list[Message] = []
         if self.previous:
             for a, b, group_a, group_b in joining_links(self.previous, links):
-                for me, peer, my_group in ((a, b, group_a), (b, a, group_b)):
+                self.merges += 1
+                for me, peer, my_group, peer_group in (
+                    (a, b, group_a, group_b),
+                    (b, a, group_b, group_a),
+                ):
                     self.old_group[(me, peer)] = my_group  # step 10's recipients
                     size = HEADER_BYTES + SEQUENCE_ENTRY_BYTES * self.n_robots
                     table = self.last[me].copy()
                     messages.append(Message(SEQ_TABLE, me, peer, size, table, tick))  # step 4
+                    self.with_tracking += size
+                    # Without tracking: my whole map to the peer, which multicasts it on.
+                    whole = cell_updates_size(int(np.count_nonzero(beliefs[me] != UNKNOWN)))
+                    self.without_tracking += whole * (1 + (len(peer_group) > 1))
         self.previous = subnetworks
         return messages
 
@@ -157,15 +179,17 @@ class ShengSync(MapSharing):
         for message in messages:
             if message.type == SEQ_TABLE:  # steps 5-7
                 missing = self.missing_for(robot, message.payload)
-                self.outbox.append(
-                    Message(MAP_SYNC, robot, message.sender, deltas_size(missing), tuple(missing))
-                )
+                size = deltas_size(missing)
+                self.outbox.append(Message(MAP_SYNC, robot, message.sender, size, tuple(missing)))
+                self.with_tracking += size
+                self.synced_cells += sum(int(d.cells.rows.size) for d in missing)
                 continue
             stored = [d for d in message.payload if self._store(robot, d)]  # steps 8-9
             fresh.extend(d.cells for d in stored)
             if message.type == MAP_SYNC:  # step 10
                 others = self.old_group.pop((robot, message.sender), frozenset()) - {robot}
                 if others and message.payload:
+                    self.with_tracking += message.size_bytes
                     self.outbox.append(
                         Message(
                             MAP_MULTICAST,
@@ -177,3 +201,13 @@ class ShengSync(MapSharing):
                         )
                     )
         return merge_many(belief, fresh) if fresh else 0
+
+    def metrics(self) -> dict[str, Any]:
+        """Table 4's volumes of this run (see the module's docstring)."""
+        per_merge = self.synced_cells / self.merges if self.merges else 0.0
+        return {
+            "sync_merges": self.merges,
+            "sync_bytes_with_tracking": self.with_tracking,
+            "sync_bytes_without_tracking": self.without_tracking,
+            "sync_cells_per_merge": per_merge,
+        }
