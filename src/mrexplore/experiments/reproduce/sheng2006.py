@@ -245,6 +245,24 @@ INTERPRETATIONS = (
         {"bid_time": 2},
         ("sheng-bidding",),
     ),
+    Interpretation(
+        "eq2-raw",
+        '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three '
+        'measures" (eq. 2; no unit given)',
+        "the literal sum: I_i and D_i in cells, lambda_i unscaled, so w3 lambda_i is worth at "
+        "most 3 cells (`eq2_units=raw`; default: lambda_i in units of r_c cells)",
+        {"eq2_units": "raw"},
+        ("sheng-bidding",),
+    ),
+    Interpretation(
+        "eq2-unit-free",
+        '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three '
+        'measures" (eq. 2; no unit given)',
+        "every term unit-free: I_i over the cells of the sensor disk, D_i over r_c, lambda_i "
+        "as it is (`eq2_units=unit-free`; default: lambda_i in units of r_c cells)",
+        {"eq2_units": "unit-free"},
+        ("sheng-bidding",),
+    ),
 )
 
 # ------------------------------------------------------------------ experiments
