@@ -12,7 +12,7 @@ from typing import Any
 
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values, fmt
+from mrexplore.experiments.reproduce.claims import Claim, Values, fmt
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row
 from mrexplore.experiments.store import Store
 
@@ -217,53 +217,30 @@ def _claim(id: str, statement: str, sentence: str) -> Claim:
 CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 
 # ------------------------------------------------------------ readings of the paper
-INTERPRETATIONS = (
-    Interpretation(
-        "both-replan-when-explored",
-        '§3.3 "The winning robot then moves to its target frontier cell" and §5 case (1) "all '
-        'the robots randomly pick frontier cells as next targets"',
-        "a robot stops and picks again once its target is no longer a frontier cell "
-        "(`replan_on_target_explored=true`), bidding robots and the random baseline alike "
-        "(default: each travels to its target)",
-        {"replan_on_target_explored": True},
-        ("sheng-bidding", "random-frontier"),
-    ),
-    Interpretation(
-        "alpha-0.1",
-        '§2.2 "α is a positive fading factor, which is smaller than 1. The use of the fading '
-        "factor will help to disperse the robots ..., since the nearness measure mainly depends "
-        'on the closest neighbor"',
-        "alpha = 0.1: the closest neighbour counts almost alone (default 0.5)",
-        {"alpha": 0.1},
-        ("sheng-bidding",),
-    ),
-    Interpretation(
-        "bid-time-2",
-        '§5 "The bidding time used in the coordination algorithm is T_bid = 1.5 s"',
-        "t_bid = 2 ticks, 1.5 rounded up to whole ticks of one cell of travel (default 1 "
-        "tick, the shortest session in which robots that bid together hear each other)",
-        {"bid_time": 2},
-        ("sheng-bidding",),
-    ),
-    Interpretation(
-        "eq2-raw",
-        '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three '
-        'measures" (eq. 2; no unit given)',
-        "the literal sum: I_i and D_i in cells, lambda_i unscaled, so w3 lambda_i is worth at "
-        "most 3 cells (`eq2_units=raw`; default: lambda_i in units of r_c cells)",
-        {"eq2_units": "raw"},
-        ("sheng-bidding",),
-    ),
-    Interpretation(
-        "eq2-unit-free",
-        '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three '
-        'measures" (eq. 2; no unit given)',
-        "every term unit-free: I_i over the cells of the sensor disk, D_i over r_c, lambda_i "
-        "as it is (`eq2_units=unit-free`; default: lambda_i in units of r_c cells)",
-        {"eq2_units": "unit-free"},
-        ("sheng-bidding",),
-    ),
+_EQ2 = (
+    '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three measures"'
 )
+#: ``name | sentence | reading | overrides | strategies``.
+INTERPRETATIONS = render.readings(f"""
+both-replan-when-explored | §3.3 "The winning robot then moves to its target frontier cell" and
+  §5 case (1) "all the robots randomly pick frontier cells as next targets" | a robot stops and
+  picks again once its target is no longer a frontier cell (`replan_on_target_explored=true`),
+  bidding robots and the random baseline alike (default: each travels to its target) |
+  replan_on_target_explored=true | sheng-bidding, random-frontier
+alpha-0.1 | §2.2 "α is a positive fading factor, which is smaller than 1. The use of the fading
+  factor will help to disperse the robots ..., since the nearness measure mainly depends on the
+  closest neighbor" | alpha = 0.1: the closest neighbour counts almost alone (default 0.5) |
+  alpha=0.1 | sheng-bidding
+bid-time-2 | §5 "The bidding time used in the coordination algorithm is T_bid = 1.5 s" | t_bid =
+  2 ticks, 1.5 rounded up to whole ticks of one cell of travel (default 1 tick, the shortest
+  session in which robots that bid together hear each other) | bid_time=2 | sheng-bidding
+eq2-raw | {_EQ2} (eq. 2; no unit given) | the literal sum: I_i and D_i in cells, lambda_i
+  unscaled, so w3 lambda_i is worth at most 3 cells (`eq2_units=raw`; default: lambda_i in
+  units of r_c cells) | eq2_units=raw | sheng-bidding
+eq2-unit-free | {_EQ2} (eq. 2; no unit given) | every term unit-free: I_i over the cells of the
+  sensor disk, D_i over r_c, lambda_i as it is (`eq2_units=unit-free`; default: lambda_i in
+  units of r_c cells) | eq2_units=unit-free | sheng-bidding
+""")
 
 # ------------------------------------------------------------------ experiments
 
