@@ -136,3 +136,4 @@ def test_sheng_sync_counts_table_4_volumes_with_and_without_tracking() -> None:
     without = cell_updates_size(6) + 2 * cell_updates_size(3)
     assert metrics["sync_bytes_without_tracking"] == without
     assert (metrics["sync_merges"], metrics["sync_cells_per_merge"]) == (1, 0.0)
+    assert (metrics["sync_cells_with_tracking"], metrics["sync_cells_without_tracking"]) == (0, 12)

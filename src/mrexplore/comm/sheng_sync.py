@@ -44,7 +44,9 @@ sent at the same moment (``sync_bytes_without_tracking``): each of the two robot
 its whole known map (5 bytes a cell, as ``full`` sharing), and each the map it
 received to the rest of its old sub-network. Both count a message once, whatever
 its number of hops (the network's ledger counts every hop); ``sync_merges`` and
-``sync_cells_per_merge`` say how many merges and how many cells each synchronised.
+``sync_cells_per_merge`` say how many merges and how many cells each synchronised,
+``sync_cells_with_tracking`` / ``_without_tracking`` how many cell entries the two
+volumes hold (for another byte model: 5 bytes a cell here).
 """
 
 from __future__ import annotations
@@ -111,6 +113,7 @@ class ShengSync(MapSharing):
         self.previous: list[frozenset[int]] = []
         self.old_group: dict[tuple[int, int], frozenset[int]] = {}
         self.merges = self.with_tracking = self.without_tracking = self.synced_cells = 0
+        self.cells_with = self.cells_without = 0  # cell entries in those bytes
 
     # ------------------------------------------------------------ tables
     def _store(self, robot: int, delta: Delta) -> bool:
@@ -166,8 +169,10 @@ class ShengSync(MapSharing):
                     messages.append(Message(SEQ_TABLE, me, peer, size, table, tick))  # step 4
                     self.with_tracking += size
                     # Without tracking: my whole map to the peer, which multicasts it on.
-                    whole = cell_updates_size(int(np.count_nonzero(beliefs[me] != UNKNOWN)))
-                    self.without_tracking += whole * (1 + (len(peer_group) > 1))
+                    known = int(np.count_nonzero(beliefs[me] != UNKNOWN))
+                    copies = 1 + (len(peer_group) > 1)
+                    self.without_tracking += cell_updates_size(known) * copies
+                    self.cells_without += known * copies
         self.previous = subnetworks
         return messages
 
@@ -181,8 +186,10 @@ class ShengSync(MapSharing):
                 missing = self.missing_for(robot, message.payload)
                 size = deltas_size(missing)
                 self.outbox.append(Message(MAP_SYNC, robot, message.sender, size, tuple(missing)))
+                cells = sum(int(d.cells.rows.size) for d in missing)
                 self.with_tracking += size
-                self.synced_cells += sum(int(d.cells.rows.size) for d in missing)
+                self.synced_cells += cells
+                self.cells_with += cells
                 continue
             stored = [d for d in message.payload if self._store(robot, d)]  # steps 8-9
             fresh.extend(d.cells for d in stored)
@@ -190,6 +197,7 @@ class ShengSync(MapSharing):
                 others = self.old_group.pop((robot, message.sender), frozenset()) - {robot}
                 if others and message.payload:
                     self.with_tracking += message.size_bytes
+                    self.cells_with += sum(int(d.cells.rows.size) for d in message.payload)
                     self.outbox.append(
                         Message(
                             MAP_MULTICAST,
@@ -210,4 +218,6 @@ class ShengSync(MapSharing):
             "sync_bytes_with_tracking": self.with_tracking,
             "sync_bytes_without_tracking": self.without_tracking,
             "sync_cells_per_merge": per_merge,
+            "sync_cells_with_tracking": self.cells_with,
+            "sync_cells_without_tracking": self.cells_without,
         }

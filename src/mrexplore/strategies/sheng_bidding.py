@@ -353,12 +353,14 @@ def compute_bid(
         lam = nearness(to_others, comm_range, alpha)
     else:
         lam = np.zeros(rows.size, dtype=np.float64)
-    scaled = (gain, distance, lam * comm_range)  # "cells": lambda in units of r_c cells
+    information = gain.astype(np.float64)
     if units == "raw":
-        scaled = (gain, distance, lam)
+        g = net_gain(information, distance, lam, w1, w2, w3)
     elif units == "unit-free":
-        scaled = (gain / len(disk_offsets(sensor_range)), distance / comm_range, lam)
-    g = net_gain(*scaled, w1, w2, w3)
+        disk = len(disk_offsets(sensor_range))
+        g = net_gain(information / disk, distance / comm_range, lam, w1, w2, w3)
+    else:  # "cells": lambda in units of r_c cells
+        g = net_gain(information, distance, lam * comm_range, w1, w2, w3)
     best = int(np.argmax(g))
     bid = Bid(
         target=(int(rows[best]), int(cols[best])),
