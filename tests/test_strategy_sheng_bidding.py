@@ -457,3 +457,26 @@ def test_a_bidder_announcing_itself_to_new_members_keeps_its_bid() -> None:
     ]
     assert all(d.goal is None for d in decisions)
     assert WINNER not in [t for d in decisions for t in _types(d)]
+
+
+def test_new_map_cells_inside_the_send_map_window_make_the_robot_bid_again() -> None:
+    """§3.3: "If during that bidding time, one or several other robots finish sensing and
+    mapping and send in the new map updates, this bidding robot recalculates its bid ...
+    and broadcasts the bid again" (inside T_win; the paper's t_bid is long against t_d)."""
+    robot = ShengBidding(0, 2, bid_time=3)  # t_d = 1: t_bid 3, T_grace 2, T_win 1
+    robot.decide(_view(0, 1))
+    assert robot.timing.send_map_window == 1
+    assert _types(robot.decide(_view(0, 2, new_cells=5))) == [BID]  # 2 - 1 <= T_win
+    assert robot.decide(_view(0, 3, new_cells=9)).messages == []  # 3 - 1 > T_win: too late
+
+
+def test_a_robot_finishing_sensing_early_in_a_session_joins_it() -> None:
+    """§3.4: a robot that finishes sensing no later than T_win after the best session
+    began takes part in it (it sends its updates and bids) instead of waiting."""
+    robot = ShengBidding(0, 2, bid_time=3)
+    position = Message(POSITION, 1, 0xFFFF, 13, PositionPayload(1, (3, 3)))
+    # Robot 1's bid, sent at tick 1, arrives at tick 2: the session began at tick 1.
+    joined = robot.decide(_view(0, 2, inbox=(position, _bid_from(1, 1000.0))))
+    assert robot.state == BIDDING and _types(joined) == [POSITION, BID]
+    # Robot 1's bid is better: robot 0 waits for it to declare.
+    assert all(robot.decide(_view(0, t)).goal is None for t in (3, 4, 5))
