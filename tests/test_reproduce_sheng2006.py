@@ -114,10 +114,11 @@ def test_every_interpretation_changes_whole_sweeps_and_its_strategies_only() -> 
         for name, sweep in repro.sweeps(True).items():
             changed = interpret(sweep, reading)  # raises on a sweep it changes in part
             strategy = sweep.fixed["strategy"]
-            assert (changed is not None) == (strategy in reading.strategies), (reading, name)
+            assert (changed is not None) == reading.applies_to(strategy), (reading, name)
             if changed is not None:
                 for spec in changed.runs():
                     assert reading.set.items() <= spec.scenario.params.items()
+                    assert all(getattr(spec.scenario, k) == v for k, v in reading.scenario.items())
         assert '"' in reading.sentence and reading.sentence.startswith("§")
 
 

@@ -178,10 +178,13 @@ def test_no_reachable_frontier_gives_no_bid() -> None:
 # ----------------------------------------------------------------------------- timing
 def test_session_timing_follows_the_latency() -> None:
     # Unlimited range, latency 1: every robot one hop away, t_d = 1, T_grace = 2,
-    # t_bid = max(1, 1) = 1, T_win = 1 - 2 = -1, timeout = 1 + 2 * 1 = 3.
+    # t_bid = max(1, T_grace) = 2, T_win = 2 - 2 = 0, timeout = 2 + 2 * 1 = 4.
     timing = session_timing(1, 1)
-    assert (timing.max_delay, timing.grace, timing.bid, timing.send_map_window) == (1, 2, 1, -1)
-    assert timing.declare_timeout == 3
+    assert (timing.max_delay, timing.grace, timing.bid, timing.send_map_window) == (1, 2, 2, 0)
+    assert timing.declare_timeout == 4
+    # The earlier reading, t_bid = max(bid_time, t_d) = 1: T_win = -1, timeout 3.
+    earlier = session_timing(1, 1, floor="delay")
+    assert (earlier.bid, earlier.send_map_window, earlier.declare_timeout) == (1, -1, 3)
     # A chain of four robots, latency 2: diameter 3 hops, t_d = 6, T_grace = 7,
     # t_bid = max(10, 6) = 10, T_win = 3, timeout = 10 + 12 = 22.
     diameter = hop_diameter([0, 1, 2, 3], [(0, 1), (1, 2), (2, 3)])
@@ -249,7 +252,8 @@ def test_messages_have_the_byte_model_sizes() -> None:
     sizes = {m.type: m.size_bytes for m in decision.messages}
     assert sizes == {POSITION: 7 + POSITION_BYTES, BID: 7 + BID_BYTES}
     assert all(m.dest == 0xFFFF and m.sender == 0 for m in decision.messages)
-    win = robot.decide(_view(0, 2))
+    assert robot.decide(_view(0, 2)).messages == []  # t_bid = T_grace = 2 ticks
+    win = robot.decide(_view(0, 3))
     assert _types(win) == [WINNER]
     assert win.messages[0].size_bytes == 7 + TARGET_BYTES
 
@@ -272,14 +276,15 @@ def test_a_better_bid_makes_the_robot_wait_and_a_silent_winner_times_out() -> No
     # Tick 2: robot 1's bid (1000) beats any bid robot 0 can make in this room.
     waiting = robot.decide(_view(0, 2, inbox=(_bid_from(1, 1000.0),)))
     assert waiting.goal is None and robot.state == BIDDING
-    # Robot 1 never declares. Expiry was tick 2; the timeout is t_bid + 2 t_d = 3 ticks:
-    # robot 0 waits through ticks 3-4 and bids again at tick 5 ...
-    for tick in (3, 4):
+    # Robot 1 never declares. Expiry is tick 1 + t_bid = 3; the timeout is t_bid + 2 t_d
+    # = 4 ticks: robot 0 waits through ticks 3-6 and bids again at tick 7 ...
+    for tick in (3, 4, 5, 6):
         assert robot.decide(_view(0, tick)).messages == []
-    rebid = robot.decide(_view(0, 5))
+    rebid = robot.decide(_view(0, 7))
     assert _types(rebid) == [BID]
-    # ... and, with nobody better left, wins at tick 6.
-    assert robot.decide(_view(0, 6)).goal is not None
+    # ... and, with nobody better left, wins when its session ends at tick 9.
+    assert robot.decide(_view(0, 8)).goal is None
+    assert robot.decide(_view(0, 9)).goal is not None
 
 
 def test_a_declaration_ends_the_session_and_the_loser_bids_again() -> None:
@@ -302,14 +307,16 @@ def test_ties_go_to_the_lower_id() -> None:
     bid_low = low.decide(_view(0, 1)).messages[1]
     bid_high = high.decide(_view(1, 1)).messages[1]
     assert bid_low.payload.value == bid_high.payload.value  # same map, same cell
-    assert low.decide(_view(0, 2, inbox=(bid_high,))).goal is not None
-    assert high.decide(_view(1, 2, inbox=(bid_low,))).goal is None
+    low.decide(_view(0, 2, inbox=(bid_high,)))
+    high.decide(_view(1, 2, inbox=(bid_low,)))
+    assert low.decide(_view(0, 3)).goal is not None  # t_bid = 2 ticks
+    assert high.decide(_view(1, 3)).goal is None
 
 
 def test_a_robot_finishing_sensing_in_a_closing_session_waits_for_the_next() -> None:
     robot = ShengBidding(0, 2)
     # Robot 1's bid arrives at tick 4 (sent at tick 3 over one hop). Robot 0 finishes
-    # sensing at tick 4: 4 - 3 = 1 > T_win = -1, so it stays out and waits.
+    # sensing at tick 4: 4 - 3 = 1 > T_win = 0, so it stays out and waits.
     position = Message(POSITION, 1, 0xFFFF, 13, PositionPayload(1, (3, 3)))
     waiting = robot.decide(_view(0, 4, inbox=(position, _bid_from(1, 5.0))))
     assert robot.state == WAITING
@@ -327,7 +334,7 @@ def test_a_waiting_robot_never_waits_forever() -> None:
     for tick in range(5, 12):
         if robot.decide(_view(0, tick)).messages:
             break
-    assert robot.state == BIDDING  # deadline: 4 + t_bid + timeout = 4 + 1 + 3 = 8
+    assert robot.state == BIDDING  # deadline: 4 + t_bid + timeout = 4 + 2 + 4 = 10
 
 
 def test_a_bidder_that_left_the_sub_network_is_forgotten() -> None:

@@ -55,7 +55,9 @@ name                           symbol  default  unit    meaning
                                                         0 = the run's --comm-range, or
                                                         the paper's 16 when unlimited
 ``bid_time``                   t_bid   1        ticks   bidding time (paper: 1.5 s); at
-                                                        least t_d is used
+                                                        least T_grace is used
+``session_floor``              -       grace    -       least t_bid: ``grace`` (T_grace)
+                                                        or ``delay`` (t_d, T_win may be -1)
 ``declare_timeout``            -       0        ticks   longest wait past t_bid for a
                                                         winner; 0 = t_bid + 2 t_d
 ``replan_on_target_explored``  -       False    -       stop travelling and bid again when
@@ -65,8 +67,10 @@ name                           symbol  default  unit    meaning
 Time windows (§3.4, Fig. 6), from the sub-network at the start of each session
 (:func:`session_timing`): ``t_d = comm_latency x hop diameter`` of the
 sub-network (the largest delay of a message in it; 0 for a lone robot),
-``t_bid = max(bid_time, t_d)``, ``T_grace = t_d + 1`` (Proposition 1:
-``T_grace > t_d``) and the send-map window ``T_win = t_bid - T_grace``.
+``T_grace = t_d + 1`` (Proposition 1: ``T_grace > t_d``), ``t_bid = max(bid_time,
+T_grace)`` and the send-map window ``T_win = t_bid - T_grace >= 0`` (Fig. 6 draws
+``T_win`` and ``T_grace`` as the two parts of ``t_bid``; ``session_floor=delay`` is
+the earlier reading ``t_bid = max(bid_time, t_d)``, where ``T_win`` can be -1).
 
 Messages (all broadcast to the sub-network; sizes from :mod:`mrexplore.comm.bytes`,
 header 7 bytes):
@@ -85,18 +89,20 @@ type          payload                              bytes  sent
 Interpretations (where the paper is silent):
 
 * **Time.** Everything is in ticks. A bid sent at tick ``s`` is read by robots
-  ``h`` hops away at ``s + h * comm_latency``; ``t_bid = max(bid_time, t_d)`` with
-  ``bid_time = 1`` is the shortest session in which robots that bid together hear
-  each other (the paper's 1.5 s was long against a LAN's delay). One robot wins
-  per session, so a sub-network sends out at most one robot every
-  ``t_bid + t_d`` ticks (2 by default).
+  ``h`` hops away at ``s + h * comm_latency``; ``t_bid = max(bid_time, T_grace)``
+  with ``bid_time = 1`` is the shortest session with a send-map window (the paper's
+  1.5 s was long against a LAN's delay). One robot wins per session, so a
+  sub-network sends out at most one robot every ``t_bid + t_d`` ticks (3 with one
+  hop). When a tick is one cell of travel that queue can bind; the ``sheng2006``
+  reproduction runs at a speed of 0.25 cells a tick, so a session is short
+  against travel as in the paper.
 * **The timer does not restart on re-bids.** Fig. 5 restarts it whenever a bid is
   recomputed; with sensing while moving, map updates arrive every tick and a
   restarting timer would never expire. A session lasts ``t_bid`` from the robot's
   first bid in it; re-bids (new map cells, a new bidder) happen only inside the
-  send-map window and do not extend the session. With the defaults
-  ``T_win = -1``: no re-bids, and a robot that finishes sensing while any
-  session is open waits for its declaration.
+  send-map window and do not extend the session. With the defaults ``T_win = 0``:
+  a robot re-bids or joins only in the tick a session began; a longer ``bid_time``
+  widens the window.
 * **Holding the map.** Map updates are sent by the run's sharing mechanism when
   cells are sensed; a strategy cannot hold them back. The late robot only stays out
   of the closing session, and updates arriving late in a session are used in the
@@ -409,23 +415,28 @@ class SessionTiming:
     grace: int
     """``T_grace = t_d + 1`` (Proposition 1: ``T_grace > t_d``)."""
     bid: int
-    """``t_bid = max(bid_time, t_d)``."""
+    """``t_bid = max(bid_time, T_grace)`` (``session_floor=delay``: ``max(bid_time, t_d)``)."""
     send_map_window: int
     """``T_win = t_bid - T_grace``."""
     declare_timeout: int
     """Ticks past ``t_bid`` a loser waits for a winner to declare."""
 
 
-def session_timing(max_delay: int, bid_time: int, declare_timeout: int = 0) -> SessionTiming:
-    """§3.4's windows from the largest delay ``max_delay`` (ticks) of the sub-network.
+def session_timing(
+    max_delay: int, bid_time: int, declare_timeout: int = 0, floor: str = "grace"
+) -> SessionTiming:
+    """§3.4's windows from the largest delay ``max_delay`` (ticks) of the sub-network;
+    ``floor``: the least ``t_bid``, ``T_grace`` (Fig. 6's ``T_win >= 0``) or ``t_d``.
 
-    >>> session_timing(1, 2)
+    >>> session_timing(1, 1)
     SessionTiming(max_delay=1, grace=2, bid=2, send_map_window=0, declare_timeout=4)
+    >>> session_timing(1, 1, floor="delay").send_map_window  # the earlier reading
+    -1
     >>> session_timing(0, 3).send_map_window  # a lone robot
     2
     """
     grace = max_delay + 1
-    bid = max(bid_time, max_delay)
+    bid = max(bid_time, grace if floor == "grace" else max_delay)
     timeout = declare_timeout if declare_timeout > 0 else bid + 2 * max_delay
     return SessionTiming(max_delay, grace, bid, bid - grace, timeout)
 
@@ -468,7 +479,13 @@ class ShengBidding(Strategy):
             "r_c",
             low=0,
         ),
-        "bid_time": Param(1, "ticks", "bidding time (at least t_d is used)", "t_bid", low=1),
+        "bid_time": Param(1, "ticks", "bidding time (at least T_grace is used)", "t_bid", low=1),
+        "session_floor": Param(
+            "grace",
+            "",
+            "least t_bid: grace (T_grace, so T_win >= 0) or delay (t_d)",
+            choices=("grace", "delay"),
+        ),
         "declare_timeout": Param(
             0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d", low=0
         ),
@@ -479,7 +496,6 @@ class ShengBidding(Strategy):
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
-        p = self.p  # ranges checked by the Param declarations
         self.state = SENSING
         # What this robot knows of the others, from messages only.
         self.positions: dict[int, Cell] = {}  # sensing-and-mapping robots
@@ -489,7 +505,7 @@ class ShengBidding(Strategy):
         self.my_bid: Bid | None = None
         self.session_start = -1
         self.expiry = -1
-        self.timing = session_timing(0, int(p["bid_time"]), int(p["declare_timeout"]))
+        self.timing = self._session_timing(0)
         self.wait_deadline = -1
         self.cells_seen = 0
         self.previous_subnetwork: frozenset[int] | None = None
@@ -611,7 +627,12 @@ class ShengBidding(Strategy):
         self._hops(view)
         assert self._topology is not None
         max_delay = view.comm_latency * self._topology[1] if len(view.subnetwork) > 1 else 0
-        return session_timing(max_delay, int(self.p["bid_time"]), int(self.p["declare_timeout"]))
+        return self._session_timing(max_delay)
+
+    def _session_timing(self, max_delay: int) -> SessionTiming:
+        p = self.p
+        floor = str(p["session_floor"])
+        return session_timing(max_delay, int(p["bid_time"]), int(p["declare_timeout"]), floor)
 
     def _live_bids(self, view: RobotView) -> dict[int, _HeardBid]:
         """Bids of the current session from robots still in the sub-network."""

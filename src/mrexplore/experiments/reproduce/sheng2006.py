@@ -30,6 +30,7 @@ SENSOR_RANGE = 4  # "the sensor range radius is 4 cell units (r_s = 4)"
 COMM_RANGE = 16  # "the communication range is 16 cell units (r_c = 16)"
 W3_WITHOUT, W3_WITH = 0.0, 1.5  # Figs. 9 and 10 (1.5: also the strategy's default)
 TABLE4_W3 = (0.0, 1.0, 2.0)  # Table 4 cases (i), (ii), (iii)
+SPEED = 0.25  # cells of travel per tick (see FIXED)
 FIG17_RANGES = (4, 8, 12, 16, 20, 24)  # Fig. 17 (the text says "five values", lists six)
 TEAM_SIZES = tuple(range(1, 9))  # Figs. 12-13: "ranges from 1 to 8"
 SEEDS = {"fig11": 8, "fig12_13": 6, "table4": 20, "fig17": 6}  # the paper's run counts
@@ -44,6 +45,9 @@ FIXED: dict[str, Any] = {
     "start": "together",  # §3: "initial positions which are close to each other"
     "coverage_threshold": 1.0,  # §3.3: "All the robots stop when no new frontier cell is ..."
     "sharing": "sheng-sync",  # §4, the paper's own map synchronisation
+    # §5 "T_bid = 1.5 s", long against a LAN's delay: a tick is a hop's latency and a
+    # quarter cell of travel, so a session (t_bid = T_grace = 2 ticks) is half a cell.
+    "speed": SPEED,
 }
 
 #: Table 4 (bytes, 5 robots, 20 runs per case): w3 -> (mean without tracking, mean
@@ -255,9 +259,19 @@ alpha-0.1 | §2.2 "α is a positive fading factor, which is smaller than 1. The 
   factor will help to disperse the robots ..., since the nearness measure mainly depends on the
   closest neighbor" | alpha = 0.1: the closest neighbour counts almost alone (default 0.5) |
   alpha=0.1 | sheng-bidding
-bid-time-2 | §5 "The bidding time used in the coordination algorithm is T_bid = 1.5 s" | t_bid =
-  2 ticks, 1.5 rounded up to whole ticks of one cell of travel (default 1 tick, the shortest
-  session in which robots that bid together hear each other) | bid_time=2 | sheng-bidding
+long-sessions | §5 "The bidding time used in the coordination algorithm is T_bid = 1.5 s" |
+  t_bid = 8 ticks (two cells of travel), a session long against the delays as 1.5 s was on a
+  LAN: T_win = 6 ticks with one hop (default: t_bid = T_grace, 2 ticks with one hop, T_win =
+  0) | bid_time=8 | sheng-bidding
+tick-per-cell | §5 "The bidding time used in the coordination algorithm is T_bid = 1.5 s" (the
+  robots' speed is not given) | a tick is one cell of travel (`speed` 1; default 0.25): a
+  session of two ticks is two cells, and one winner per session can hold the team back |
+  scenario.speed=1 | *
+negative-window | §3.4 "The relationship between Send-Map-Window, bidding time and the grace
+  window is illustrated in Fig. 6" (t_bid drawn as T_win + T_grace) | t_bid = max(bid_time,
+  t_d) as in earlier versions, so T_win = -1 with one hop: no robot ever joins a running
+  session (`session_floor=delay`; default `grace`, T_win >= 0) | session_floor=delay |
+  sheng-bidding
 eq2-raw | {_EQ2} (eq. 2; no unit given) | the literal sum: I_i and D_i in cells, lambda_i
   unscaled, so w3 lambda_i is worth at most 3 cells (`eq2_units=raw`; default: lambda_i in
   units of r_c cells) | eq2_units=raw | sheng-bidding
@@ -304,7 +318,9 @@ def _settings(quick: bool) -> list[tuple[str, str, str]]:
         ("communication r_c", "16 cell units", "16 cells, multi-hop, through walls"),
         ("sensing", "not while travelling (§2.1)", "`sensing = arrival`"),
         ("start", "close together (§3); varied places / times", "adjacent, placed by the seed"),
-        ("time", "seconds; t_bid = 1.5 s", "ticks: a cell of path, t_bid and a hop's latency"),
+        ("time", "seconds", f"ticks: a hop's latency, {SPEED:g} cell of path"),
+        ("bidding time", "t_bid = 1.5 s", "t_bid = T_grace = t_d + 1 ticks (T_win = 0)"),
+        ("eq. (2) units", "not given", "I_i, D_i in cells; lambda_i in units of r_c cells"),
         ("omega1, omega2; omega3 off / on", "1.0, 1.0; 0 / 1.5 (Figs. 9-10)", "the same"),
         ("alpha (eq. 1)", "positive, < 1 (value not given)", "0.5 (strategy default)"),
         ("map sharing", "§4 synchronisation", "`sheng-sync` (Table 4: also `full`)"),
