@@ -77,13 +77,14 @@ COLOURS = {CASE_RANDOM: "#7f7f7f", CASE_WITHOUT: "#1f77b4", CASE_WITH: "#d62728"
 TRACKING = {"full": "without tracking", "sheng-sync": "with tracking"}
 WITHOUT, WITH = TRACKING.values()
 PARTITIONS, BROADCAST = "partitions", "broadcast"
+MERGES, PER_MERGE = "merges", "cells per merge"  # of the sheng-sync runs
 #: The paper's measure: both volumes from the same `sheng-sync` runs, each message once
 #: (its "volumes of map data that are supposed to be exchanged if the map update
 #: tracking scheme is not used"), in our byte model (5 bytes a cell) and at 1 byte a cell.
 SAME_WITHOUT, SAME_WITH = "without, same run", "with, same run"
 ONE_BYTE = {f"{arm}, 1 B/cell": arm for arm in (SAME_WITHOUT, SAME_WITH)}
 SAME_RUN = (SAME_WITHOUT, SAME_WITH, *ONE_BYTE)
-ARMS = (*CASES, *SAME_RUN, WITHOUT, WITH, PARTITIONS, BROADCAST)
+ARMS = (*CASES, *SAME_RUN, WITHOUT, WITH, PARTITIONS, MERGES, PER_MERGE, BROADCAST)
 
 
 def case_of(row: Row) -> str:
@@ -133,6 +134,8 @@ TABLE4_METRICS: dict[str, Metric] = {
     **{arm: same_run(of.split(",")[0], 1) for arm, of in ONE_BYTE.items()},
     BROADCAST: render.bytes_of(BROADCAST_TYPES),
     PARTITIONS: render.measured("partition_events"),
+    MERGES: render.measured("sync_merges"),
+    PER_MERGE: render.measured("sync_cells_per_merge"),
     "ticks": render.column("ticks"),
     **BOTH,
     **{t: render.bytes_of([t]) for types in SYNC_TYPES.values() for t in types},
@@ -157,7 +160,8 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
     table4 = of("table4", TABLE4_METRICS, w3, lambda r: TRACKING[r["sharing"]])
 
     def shown(cell: Any) -> dict[str, dict[int, float]]:  # columns of the sheng-sync runs
-        return {k: table4[k][cell].get(WITH, {}) for k in (*SAME_RUN, PARTITIONS, BROADCAST)}
+        columns = (*SAME_RUN, PARTITIONS, MERGES, PER_MERGE, BROADCAST)
+        return {k: table4[k][cell].get(WITH, {}) for k in columns}
 
     return {
         **of("fig11", fig11, lambda r: (r["robots"],)),
