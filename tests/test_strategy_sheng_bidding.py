@@ -487,3 +487,19 @@ def test_a_robot_finishing_sensing_early_in_a_session_joins_it() -> None:
     assert robot.state == BIDDING and _types(joined) == [POSITION, BID]
     # Robot 1's bid is better: robot 0 waits for it to declare.
     assert all(robot.decide(_view(0, t)).goal is None for t in (3, 4, 5))
+
+
+def test_eq_1_can_measure_to_robots_outside_the_sub_network() -> None:
+    """``nearness_over=known``: eq. (1) measures to every robot last heard of (Fig. 2's
+    robot 6, far from the others), while I_i still excludes only the sub-network's."""
+    apart = _bid(_corridor(), (1, 6), [], nearness_cells=[(1, 7)])
+    assert apart.target == (1, 9) and apart.nearness == pytest.approx(math.exp(-2 / 16))
+    assert _bid(_corridor(), (1, 6), []).target == (1, 3)  # nobody known: the tie again
+    bids = {}
+    for over in ("subnetwork", "known"):
+        robot = ShengBidding(0, 3, nearness_over=over)
+        robot.positions = {1: (1, 7), 2: (3, 3)}  # robot 2 was heard of; it is not in range
+        result = robot._evaluate(_view(0, 1, team=frozenset({0, 1})))
+        assert result is not None
+        bids[over] = result[0]
+    assert bids["known"].nearness > bids["subnetwork"].nearness > 0

@@ -635,3 +635,34 @@ def test_the_team_stays_one_network_at_the_papers_shortest_range(robots: int) ->
     together = float((network.subnetworks == 1).mean())
     assert together >= 0.85
     assert together > float((scattered.subnetworks == 1).mean())
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known livelock (benchmarks/vazquez_combos.py): with every bridge constraining "
+    "(constrain_bridges=always), no_frontier_rule=approach and re-planning on any change of "
+    "behaviour, two robots swap between two pairs of targets and the run stalls",
+)
+def test_no_livelock_when_every_bridge_constrains_and_any_change_replans() -> None:
+    params = {
+        "constrain_bridges": "always",
+        "no_frontier_rule": "approach",
+        "zone_includes_targets": False,
+        "replan_on_behaviour": "any",
+    }
+    record = simulate(
+        Scenario(
+            map="office",
+            size=(40, 40),
+            map_seed=1,
+            robots=2,
+            seed=1,
+            sensor_range=4.5,
+            comm_range=13,
+            sharing="broadcast",
+            strategy="vazquez-network",
+            params=params,
+            coverage_threshold=1.0,
+        )
+    )
+    assert record.status == "complete", (record.status, record.ticks)

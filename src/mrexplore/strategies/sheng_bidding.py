@@ -51,6 +51,8 @@ name                           symbol  default  unit    meaning
                                                         (the paper gives no value)
 ``eq2_units``                  -       cells    -       units of eq. (2): ``cells``,
                                                         ``raw`` or ``unit-free`` (below)
+``nearness_over``              -       subnet.  -       robots of eq. (1): ``subnetwork``
+                                                        or ``known`` (all last heard of)
 ``comm_range``                 r_c     0        cells   communication range in eq. (1);
                                                         0 = the run's --comm-range, or
                                                         the paper's 16 when unlimited
@@ -115,7 +117,9 @@ Interpretations (where the paper is silent):
   robot waits at most ``t_bid + declare_timeout`` for the open session to end.
   No robot waits forever, whatever the network loses.
 * **Who counts.** Only robots of the current sub-network enter ``I_i`` and eq. (1)
-  (the paper: "within the same subnetwork"); a robot whose position or target was
+  (the paper: "within the same subnetwork", ``n_k``; ``nearness_over=known`` lets
+  eq. (1) measure to every robot last heard of, as Fig. 2's example of robot 6, far
+  from all the others, suggests); a robot whose position or target was
   never received is left out. A robot that is bidding, waiting or done counts as
   sensing-and-mapping at the position it announced.
 * **Travel distances in eq. (1)** are shortest paths over the bidder's own map
@@ -330,11 +334,13 @@ def compute_bid(
     w2: float,
     w3: float,
     units: str = "cells",
+    nearness_cells: Sequence[Cell] | None = None,
 ) -> tuple[Bid, npt.NDArray[np.float64]] | None:
     """§3.2: the bid ``B = max_i g_i`` of a robot at ``position`` over its frontier cells.
 
     ``sensing_positions`` and ``travel_targets`` describe the *other* robots of the
-    sub-network. ``units`` puts the three terms of eq. (2) in one unit
+    sub-network; ``nearness_cells``, where eq. (1) measures to (default: the same
+    robots). ``units`` puts the three terms of eq. (2) in one unit
     (:data:`EQ2_UNITS`). Returns the bid and the robot's distance field (for its
     path), or ``None`` when no frontier cell is reachable. Ties go to the first cell
     in raster order.
@@ -352,9 +358,10 @@ def compute_bid(
     others = [*sensing_positions, *travel_targets]
     gain = information_gains(belief, cells, sensor_range, others)
     distance = own[rows, cols]
-    if w3 != 0.0 and others:
-        to_others = np.empty((rows.size, len(others)), dtype=np.float64)
-        for k, cell in enumerate(others):
+    near = others if nearness_cells is None else list(nearness_cells)
+    if w3 != 0.0 and near:
+        to_others = np.empty((rows.size, len(near)), dtype=np.float64)
+        for k, cell in enumerate(near):
             to_others[:, k] = distance_field(free, cell, targets=candidates)[rows, cols]
         lam = nearness(to_others, comm_range, alpha)
     else:
@@ -469,6 +476,12 @@ class ShengBidding(Strategy):
         "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2", low=0),
         "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3", low=0),
         "alpha": Param(0.5, "", "fading factor of eq. (1)", "α", low=0, high=1),
+        "nearness_over": Param(
+            "subnetwork",
+            "",
+            "robots eq. (1) measures to: subnetwork (its n_k) or known (all last heard of)",
+            choices=("subnetwork", "known"),
+        ),
         "eq2_units": Param(
             "cells", "", "units of eq. (2)'s terms: cells, raw or unit-free", choices=EQ2_UNITS
         ),
@@ -698,6 +711,10 @@ class ShengBidding(Strategy):
 
     def _evaluate(self, view: RobotView) -> tuple[Bid, npt.NDArray[np.float64]] | None:
         others = view.subnetwork - {self.robot_id}
+        near: list[Cell] | None = None
+        if self.p["nearness_over"] == "known":  # eq. (1) over every robot last heard of
+            known = {**self.positions, **self.targets}
+            near = [cell for robot, cell in sorted(known.items()) if robot != self.robot_id]
         return compute_bid(
             view.belief,
             view.position,
@@ -710,6 +727,7 @@ class ShengBidding(Strategy):
             w2=float(self.p["w2"]),
             w3=float(self.p["w3"]),
             units=str(self.p["eq2_units"]),
+            nearness_cells=near,
         )
 
     def _win(self, view: RobotView, out: list[Message]) -> Decision:

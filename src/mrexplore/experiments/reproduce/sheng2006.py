@@ -276,6 +276,10 @@ negative-window | §3.4 "The relationship between Send-Map-Window, bidding time 
   t_d) as in earlier versions, so T_win = -1 with one hop: no robot ever joins a running
   session (`session_floor=delay`; default `grace`, T_win >= 0) | session_floor=delay |
   sheng-bidding
+nearness-over-known | §2.2 "in Fig. 2, robot 6 has the least nearness measure because its
+  distances to other robots are all bigger than the communication range r_c" | eq. (1) measures
+  to every robot last heard of, not only the n_k of the sub-network (`nearness_over=known`;
+  default `subnetwork`, eq. (1)'s literal n_k) | nearness_over=known | sheng-bidding
 eq2-raw | {_EQ2} (eq. 2; no unit given) | the literal sum: I_i and D_i in cells, lambda_i
   unscaled, so w3 lambda_i is worth at most 3 cells (`eq2_units=raw`; default: lambda_i in
   units of r_c cells) | eq2_units=raw | sheng-bidding
