@@ -637,32 +637,72 @@ def test_the_team_stays_one_network_at_the_papers_shortest_range(robots: int) ->
     assert together > float((scattered.subnetworks == 1).mean())
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known livelock (benchmarks/vazquez_combos.py): with every bridge constraining "
-    "(constrain_bridges=always), no_frontier_rule=approach and re-planning on any change of "
-    "behaviour, two robots swap between two pairs of targets and the run stalls",
+#: Runs of benchmarks/vazquez_combos.py (2048 runs: the 16 combinations x offices
+#: 40 / 50 x map seeds 1-2 x 2, 3, 4, 6 robots x seeds 1-4 x sensor 3 / 4.5, range a
+#: third of the width) that do not complete: (combination, width, map_seed, seed,
+#: sensor_range), all with 2 robots. Three livelocks, none fixed (see
+#: docs/strategies/vazquez-network.md, "Known livelocks"):
+#: * "swap" (constrain_bridges any, replan_on_behaviour=connectivity): two frontier
+#:   areas farther apart than d3; the pair disconnects, both abort their frontiers
+#:   (left to the other) and return, reconnect, each takes the other's, and they
+#:   cross and disconnect again;
+#: * "chase" (constrain_bridges=always, zone_includes_targets=False): each robot's
+#:   frontier must lie in the thin comfort zone (d1, d2) of the other's current cell;
+#:   both choose at once, on every change of behaviour, frontiers on the other's side;
+#: * "chatter" (always, convoy, zone_includes_targets=True, any): a 6-tick cycle at the
+#:   collision distance d1, a new frontier on entering and on leaving avoid-collision.
+LIVELOCKS = [
+    ("stretched", "approach", False, "connectivity", 40, 1, 4, 3.0),  # swap
+    ("stretched", "approach", False, "connectivity", 40, 2, 3, 4.5),  # swap
+    ("always", "approach", False, "any", 40, 1, 1, 4.5),  # chase
+    ("always", "approach", False, "any", 40, 1, 2, 4.5),  # chase
+    ("always", "approach", False, "any", 40, 2, 1, 4.5),  # chase
+    ("always", "approach", False, "any", 50, 1, 2, 4.5),  # chase
+    ("always", "approach", False, "any", 50, 2, 2, 4.5),  # chase
+    ("always", "approach", False, "any", 50, 2, 4, 4.5),  # chase
+    ("always", "approach", False, "connectivity", 40, 1, 2, 3.0),  # chase, then swap
+    ("always", "convoy", False, "any", 40, 2, 3, 3.0),
+    ("always", "convoy", True, "any", 50, 1, 4, 3.0),  # chatter
+]
+
+
+@pytest.mark.xfail(strict=True, reason="known livelocks of non-default readings, not fixed")
+@pytest.mark.parametrize(
+    ("constrain", "rule", "targets", "replan", "width", "map_seed", "seed", "sensor"),
+    LIVELOCKS,
 )
-def test_no_livelock_when_every_bridge_constrains_and_any_change_replans() -> None:
-    params = {
-        "constrain_bridges": "always",
-        "no_frontier_rule": "approach",
-        "zone_includes_targets": False,
-        "replan_on_behaviour": "any",
-    }
+def test_known_livelocks_of_non_default_readings(
+    constrain: str,
+    rule: str,
+    targets: bool,
+    replan: str,
+    width: int,
+    map_seed: int,
+    seed: int,
+    sensor: float,
+) -> None:
+    """Each run stalls (no new cell for 400 ticks, well under a second); it would
+    complete if the livelock were fixed. The default readings complete all 128 runs
+    of the benchmark."""
     record = simulate(
         Scenario(
             map="office",
-            size=(40, 40),
-            map_seed=1,
+            size=(width, width),
+            map_seed=map_seed,
             robots=2,
-            seed=1,
-            sensor_range=4.5,
-            comm_range=13,
-            sharing="broadcast",
+            seed=seed,
+            sensor_range=sensor,
+            comm_range=round(width / 3),
             strategy="vazquez-network",
-            params=params,
+            params={
+                "constrain_bridges": constrain,
+                "no_frontier_rule": rule,
+                "zone_includes_targets": targets,
+                "replan_on_behaviour": replan,
+            },
             coverage_threshold=1.0,
+            max_ticks=6000,
+            stall_ticks=400,
         )
     )
     assert record.status == "complete", (record.status, record.ticks)
