@@ -130,9 +130,9 @@ Interpretations (where the paper is silent):
   cells and ``D_i`` as a travel distance, and gives no unit for the sum; ``lambda_i``
   is a pure number below ``1 / (1 - alpha)``. Added raw (``raw``), the nearness term
   is worth at most 3 cells against gains of up to 49 cells and distances of tens:
-  at the paper's ``w3 = 1.5`` it changes the chosen cell in about one bid of ten, and
-  the clustering of Fig. 10 and the smaller traffic of Table 4 appear only at
-  ``w3`` of 15-50. Principle (stated before measuring): give each term a unit of
+  at the paper's ``w3 = 1.5`` the team spreads as without it (group diameter 33.1
+  against 31.4 cells, ``benchmarks/sheng_units_sweep.py``), unlike the paper's
+  Figs. 10-11. Principle (stated before measuring): give each term a unit of
   cells, keeping the paper's definitions of ``I_i`` and ``D_i``; eq. (1) measures
   distance in units of ``r_c`` (``e^(-d/r_c)``), so one unit of ``lambda_i`` is ``r_c``
   cells. Then near another robot (``d << r_c``) one cell farther from it costs
