@@ -148,7 +148,7 @@ def _runs() -> pa.Table:
 
 def test_run_values_and_summaries() -> None:
     rows = [{**r, "experiment": "intel-x"} for r in _runs().to_pylist() if r["status"] != "failed"]
-    values = repro.run_values(rows, quick=False)
+    values = repro.run_values(rows)
     cell = ("intel", 2)
     assert values["coordination_bytes"][cell]["centralised"][1] == 100.0
     assert values["negotiation_bytes"][cell]["centralised"][1] == 0.0
@@ -176,12 +176,12 @@ def test_the_claims_read_the_teams_in_the_reports_order() -> None:
     assert (event.second, *event.seconds) == tuple(repro.timer_arm(p) for p in repro.TIMER_PERIODS)
 
 
-def test_map_setups_convert_metres() -> None:
-    setups = {s.key: s for s in repro.map_setups(False)}
-    assert list(setups) == ["intel", "house", "office"]
-    assert setups["intel"].settings["sensor_range"] == "3m"
-    assert setups["office"].settings["sensor_range"] == pytest.approx(15.0)
-    assert [s.key for s in repro.map_setups(True)] == ["intel", "house", "office"]
+def test_map_settings_convert_metres() -> None:
+    settings = repro.map_settings(False)
+    assert list(settings) == ["intel", "house", "office"] == list(repro.MAP_LABELS)
+    assert settings["intel"]["sensor_range"] == "3m"
+    assert settings["office"]["sensor_range"] == pytest.approx(15.0)
+    assert list(repro.map_settings(True)) == ["intel", "house", "office"]
 
 
 # ------------------------------------------------------------------ full run

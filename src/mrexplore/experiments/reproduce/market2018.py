@@ -15,7 +15,6 @@ and arm (:data:`ARM_LABELS`). ``--quick``: the office smaller, 2 seeds (the RRT 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -36,14 +35,12 @@ CITATION = (
     "(our plain-text copy names no authors or venue; the id says 2018)."
 )
 
-# ----------------------------------------------------------------------- settings
-
 TEAM_SIZES, QUICK_TEAM_SIZES = (1, 2, 3), (2, 3)  # §IV: "from one to three"
 SEEDS, QUICK_SEEDS = tuple(range(1, 11)), (1, 2)  # not given in the paper: ours
-#: Metres per cell of the real maps (their files have 0.05 m): a robot-sized cell.
-CELL_SIZE_M = 0.2
-#: Not given in the paper: a Kinect-like range, the project's usual 3 m.
-SENSOR_RANGE_M = 3.0
+#: Metres per cell of the real maps (their files have 0.05 m): a robot-sized cell; the sensor
+#: range is not given in the paper: a Kinect-like range, the project's usual 3 m.
+CELL_SIZE_M, SENSOR_RANGE_M = 0.2, 3.0
+SENSOR_RANGE_CELLS = SENSOR_RANGE_M / CELL_SIZE_M
 #: Periods of the time-triggered ablation (ticks = cells of travel): 2 m and 6 m.
 TIMER_PERIODS = (10, 30)
 #: The occupancy ablation: ``lambda_f = 0`` means "default" (= r_f), so a negligible peak.
@@ -60,43 +57,30 @@ FIXED: dict[str, Any] = {
 }
 
 
-@dataclass(frozen=True)
-class MapSetup:
-    """One environment: a short key (sweep names), a label and its scenario settings."""
+#: The environments, ``key (sweep names) | map | label | what it is``: two real indoor maps of
+#: the catalogue and the ``office`` generator.
+MAPS = render.text_rows(f"""
+intel | intel | Intel Research Lab | catalogue map `intel` (real SLAM map, ring corridor and small
+  rooms)
+house | aws-small-house | AWS small house | catalogue map `aws-small-house` (a Gazebo house mapped
+  in ROS)
+office | office | office generator | our `office` generator (rooms on both sides of corridors), one
+  map (`map_seed = 1`), cells read as {CELL_SIZE_M} m
+""")
+MAP_LABELS = {key: label for key, _, label, _ in MAPS}
 
-    key: str
-    label: str
-    settings: dict[str, Any] = field(default_factory=dict)
-    note: str = ""
 
+def map_settings(quick: bool) -> dict[str, dict[str, Any]]:
+    """``map key -> scenario settings``, in the order of :data:`MAPS`.
 
-def map_setups(quick: bool) -> list[MapSetup]:
-    """The environments: two real indoor maps of the catalogue and the ``office`` generator.
-
-    >>> [m.key for m in map_setups(True)]
-    ['intel', 'house', 'office']
+    >>> map_settings(True)["office"]["size"], map_settings(False)["intel"]["sensor_range"]
+    ('80x56', '3m')
     """
     real = {"cell_size": CELL_SIZE_M, "sensor_range": f"{SENSOR_RANGE_M:g}m", "max_ticks": 10000}
-    office: dict[str, Any] = {
-        "map": "office",
-        "size": "80x56" if quick else "120x80",
-        "map_seed": 1,
-    }
-    office |= {"sensor_range": SENSOR_RANGE_M / CELL_SIZE_M, "max_ticks": 3000 if quick else 10000}
-    settings = {"intel": {"map": "intel", **real}, "house": {"map": "aws-small-house", **real}}
-    settings["office"] = office
-    rows = render.text_rows(f"""
-intel | Intel Research Lab | catalogue map `intel` (real SLAM map, ring corridor and small rooms)
-house | AWS small house | catalogue map `aws-small-house` (a Gazebo house mapped in ROS)
-office | office generator | our `office` generator (rooms on both sides of corridors), one map
-  (`map_seed = 1`), cells read as {CELL_SIZE_M} m
-""")
-    return [
-        MapSetup(key, label, {**settings, "office": office}[key], note) for key, label, note in rows
-    ]
+    size, ticks = ("80x56", 3000) if quick else ("120x80", 10000)
+    office = {"size": size, "map_seed": 1, "sensor_range": SENSOR_RANGE_CELLS, "max_ticks": ticks}
+    return {key: {"map": name, **(office if key == "office" else real)} for key, name, *_ in MAPS}
 
-
-# ------------------------------------------------------------------------ arms
 
 CENTRALISED, DECENTRALISED = "centralised", "decentralised"
 RRT, NO_OCCUPANCY = "rrt", "no-occupancy"
@@ -169,29 +153,27 @@ METRICS: dict[str, Metric] = {
     "diameter": render.column("group_diameter_mean"),
 }
 
-Cell = tuple[str, int]
-"""``(map key, team size)``."""
+
+def map_key(row: Row) -> str:
+    """The map of a run, from its experiment's name (``<map>-<arm>``).
+
+    >>> map_key({"experiment": "house-timer"})
+    'house'
+    """
+    return str(row.get("experiment", "")).split("-")[0]
 
 
-def map_key(row: Row, quick: bool) -> str:
-    """The map of a run, from its experiment's name (``<map>-<arm>``)."""
-    name = str(row.get("experiment", ""))
-    return next((s.key for s in map_setups(quick) if name.startswith(f"{s.key}-")), name)
-
-
-def run_values(rows: Iterable[Row], quick: bool) -> dict[str, dict[CellKey, Any]]:
+def run_values(rows: Iterable[Row]) -> dict[str, dict[CellKey, Any]]:
     """``metric -> (map, robots) -> arm -> seed -> value``, maps in the report's order."""
-    order = {s.key: i for i, s in enumerate(map_setups(quick))}
+    order = {key: i for i, key in enumerate(MAP_LABELS)}
     return render.tabulate(
         rows,
         METRICS,
-        lambda r: (map_key(r, quick), int(r["robots"])),
+        lambda r: (map_key(r), int(r["robots"])),
         arm_of,
         lambda c: (order.get(c[0], 99), c[1]),
     )
 
-
-# ------------------------------------------------------------ the paper's claims
 
 #: Abstract: "The proposed strategy has been implemented in simulation environment and
 #: compared with a centralised market model method. The results of exploration
@@ -213,51 +195,38 @@ PAPER_EVENT_FASTER = "event-based communication speeds up the exploration"
 PAPER_MINIMAL = "the decentralised negotiation uses minimal information"
 #: §IV: "Experiments were performed in the different indoor environments (Fig. 9) with
 #: the number of robots from one to three."
-PAPER_ENVIRONMENTS = 3
-PAPER_TEAM_SIZES = (1, 2, 3)
+PAPER_ENVIRONMENTS, PAPER_TEAM_SIZES = 3, (1, 2, 3)
 
-#: Every claim is judged cell by cell (map x team size, teams of 2 and 3, where robots
-#: negotiate; for the event-based claims also x timer period, pooled) on the means over
-#: seeds. Exploration time is T99; a run that never reached 99% counts with its length
-#: (a lower bound of its T99).
-#: ``id | where | our statement``, in the report's order.
-_STATEMENTS = render.text_rows("""
-quick | Abstract | the decentralised market-occupancy explores at least as fast as the centralised
-  market (2-3 robots)
-quick_rrt | Abstract | the same with the paper's RRT frontier detector (2-3 robots)
-dispersed | Abstract | the frontier occupancy function makes the robots more dispersed
-event_data | Abstract | event-based communication reduces the information exchanged in the
-  negotiation (vs time-triggered rounds)
-event_time | Abstract | event-based communication speeds up the exploration (vs time-triggered
-  rounds)
-minimal | §I | the decentralised negotiation needs no more information than the centralised
+#: Every claim compares means over seeds cell by cell (map x team size, teams of 2 and 3, where
+#: robots negotiate; for the event-based claims also x timer period, pooled).
+#: ``id | where | the paper's words | metric | its label | the first arm, how its mean compares
+#: and the arms it is compared with (their cells pooled) | our statement``, in the report's order.
+_TIMERS = " ".join(timer_arm(p) for p in TIMER_PERIODS)
+_CLAIMS = f"""
+quick | Abstract | {PAPER_QUICK} | time | T99 | decentralised <= centralised | the decentralised
+  market-occupancy explores at least as fast as the centralised market (2-3 robots)
+quick_rrt | Abstract | {PAPER_QUICK} | time | T99 | rrt <= centralised | the same with the
+  paper's RRT frontier detector (2-3 robots)
+dispersed | Abstract | {PAPER_DISPERSED} | diameter | group diameter (cells) | decentralised >
+  no-occupancy | the frontier occupancy function makes the robots more dispersed
+event_data | Abstract | {PAPER_EVENT_LESS_DATA} | negotiation_bytes | negotiation bytes |
+  decentralised < {_TIMERS} | event-based communication reduces the information exchanged in
+  the negotiation (vs time-triggered rounds)
+event_time | Abstract | {PAPER_EVENT_FASTER} | time | T99 | decentralised <= {_TIMERS} |
+  event-based communication speeds up the exploration (vs time-triggered rounds)
+minimal | §I | {PAPER_MINIMAL} | coordination_bytes | coordination bytes | decentralised <=
+  centralised | the decentralised negotiation needs no more information than the centralised
   market's coordination
-""")
-_TIMERS = tuple(timer_arm(p) for p in TIMER_PERIODS)
-_T99, _DIAMETER = ("time", "T99"), ("diameter", "group diameter (cells)")
-_NEGOTIATION = ("negotiation_bytes", "negotiation bytes")
-_COORDINATION = ("coordination_bytes", "coordination bytes")
-#: Claim id -> the paper's words, the metric and its label, the first arm, the arms it is
-#: compared with (their cells pooled) and how its mean compares with theirs.
-_JUDGED: dict[str, tuple[Any, ...]] = {
-    "quick": (PAPER_QUICK, *_T99, DECENTRALISED, (CENTRALISED,), "<="),
-    "quick_rrt": (PAPER_QUICK, *_T99, RRT, (CENTRALISED,), "<="),
-    "dispersed": (PAPER_DISPERSED, *_DIAMETER, DECENTRALISED, (NO_OCCUPANCY,), ">"),
-    "event_data": (PAPER_EVENT_LESS_DATA, *_NEGOTIATION, DECENTRALISED, _TIMERS, "<"),
-    "event_time": (PAPER_EVENT_FASTER, *_T99, DECENTRALISED, _TIMERS, "<="),
-    "minimal": (PAPER_MINIMAL, *_COORDINATION, DECENTRALISED, (CENTRALISED,), "<="),
-}
+"""
 CLAIMS = tuple(
-    Claim(i, at, ours, paper, metric, label, first, arms[0], Means(how), digits, arms[1:])
-    for i, at, ours in _STATEMENTS
-    for paper, metric, label, first, arms, how in [_JUDGED[i]]
+    Claim(i, at, ours, paper, metric, label, first, arms[0], Means(how), digits, tuple(arms[1:]))
+    for i, at, paper, metric, label, compared, ours in render.text_rows(_CLAIMS)
+    for first, how, *arms in [compared.split()]
     for digits in [int(metric == "diameter")]
 )
 
-#: §III.B: "at the moment when the mobile robot reach the goal, mission is over and a
-#: weight calculation request is sent to the others (Fig. 4)": market-occupancy
-#: re-plans on arrival only. Our `burgard` also re-plans once its target is explored
-#: (its default). The comparison is fair only with one trigger for both arms, and the
+#: Fig. 4: market-occupancy re-plans on arrival only; our `burgard` also once its target is
+#: explored (its default). The comparison is fair only with one trigger for both arms, and the
 #: paper does not say which its centralised baseline used.
 _ARRIVAL = (
     '§III.B "at the moment when the mobile robot reach the goal, mission is over and a '
@@ -276,76 +245,67 @@ both-replan-when-explored | {_ARRIVAL}, as one re-plan trigger among the baselin
 """)
 
 
-# ------------------------------------------------------------------------ sweeps
-
-
 def experiments(quick: bool) -> list[Experiment]:
-    """One experiment per map and arm (``<map>-<arm>``)."""
+    """One experiment per map and arm (``<map>-<arm>``); the RRT detector costs most: one
+    seed in a quick run."""
     seeds = QUICK_SEEDS if quick else SEEDS
     robots = {"robots": list(QUICK_TEAM_SIZES if quick else TEAM_SIZES)}
     market = {**FIXED, "strategy": "market-occupancy"}
-    out = []
-    for setup in map_setups(quick):
-        arms: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
-            CENTRALISED: ({**FIXED, "strategy": "burgard"}, robots),
-            DECENTRALISED: (market, {**robots, "set": {"lambda_f": [0.0, NO_OCCUPANCY_LAMBDA_F]}}),
-            RRT: ({**market, "set": {"frontier_detector": "rrt"}}, robots),
-            "timer": (
-                {**market, "set": {"event_based": False}},
-                {**robots, "set": {"replan_every": list(TIMER_PERIODS)}},
-            ),
-        }
-        for arm, (fixed, grid) in arms.items():
-            # The RRT detector costs most: one seed in a quick run.
-            chosen = seeds[:1] if quick and arm == RRT else seeds
-            fixed = {**fixed, **setup.settings}
-            out.append(Experiment(f"{setup.key}-{arm}", fixed, grid, chosen, curves_every=10))
-    return out
+    arms: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
+        CENTRALISED: ({**FIXED, "strategy": "burgard"}, robots),
+        DECENTRALISED: (market, {**robots, "set": {"lambda_f": [0.0, NO_OCCUPANCY_LAMBDA_F]}}),
+        RRT: ({**market, "set": {"frontier_detector": "rrt"}}, robots),
+        "timer": (
+            {**market, "set": {"event_based": False}},
+            {**robots, "set": {"replan_every": list(TIMER_PERIODS)}},
+        ),
+    }
+    return [
+        Experiment(f"{key}-{arm}", {**fixed, **settings}, grid, chosen, curves_every=10)
+        for key, settings in map_settings(quick).items()
+        for arm, (fixed, grid) in arms.items()
+        for chosen in [seeds[:1] if quick and arm == RRT else seeds]
+    ]
 
 
 sweeps = render.sweeps_for(ID, experiments)
 
 
-# ------------------------------------------------------------------------ report
-
-
 #: Our choices where the paper is silent, as the report's settings section lists them.
-NOTES = (
-    "*Maps*: the paper's Fig. 9 environments are not in our copy. We take two real "
-    "indoor maps (Intel lab: corridors and small rooms; the AWS small house, a ROS/Gazebo "
-    "world) and one generated office. Their SLAM files are at 0.05 m; cells of 0.2 m "
-    "(the size of a small robot) keep the runs short.",
-    "*Exploration time* is T99, ticks until 99% of the explorable cells are known: "
-    "SLAM maps leave a few pockets that only a visit next to them reveals.",
-    "*Event-based communication* (§III.B, Fig. 4): a robot that reaches its goal sends "
-    "a weight-calculation request with its frontier list; the others answer with their "
-    "weights. The paper names no alternative; ours is time-triggered negotiation "
-    "(`event_based=false`, added to `market-occupancy` for this reproduction): the same "
-    "rounds, opened by each robot's clock instead of its arrival; a robot that arrived "
-    "waits for the next round.",
-    '*Occupancy ablation*: `lambda_f = 0` means "the default" in our parameters, so '
-    f"`no-occupancy` sets `lambda_f = {NO_OCCUPANCY_LAMBDA_F:g}`.",
-    "*Traffic*: negotiation = `weight_request` + `weights` bytes; coordination = every "
-    "message type except map sharing (`map_update`, ...), i.e. `status` + `assign` for "
-    "`burgard`. The byte model is ours (a frontier point two float32, a weight one "
-    "float32, a 7-byte header); the paper gives none.",
-    "*Dispersion* is the mean group diameter (largest distance between two robots, "
-    "cells, averaged over the run).",
-)
+_NOTES = f"""
+*Maps*: the paper's Fig. 9 environments are not in our copy. We take two real indoor maps (Intel
+  lab: corridors and small rooms; the AWS small house, a ROS/Gazebo world) and one generated office.
+  Their SLAM files are at 0.05 m; cells of 0.2 m (the size of a small robot) keep the runs short.
+*Exploration time* is T99, ticks until 99% of the explorable cells are known: SLAM maps leave a few
+  pockets that only a visit next to them reveals.
+*Event-based communication* (§III.B, Fig. 4): a robot that reaches its goal sends a
+  weight-calculation request with its frontier list; the others answer with their weights. The paper
+  names no alternative; ours is time-triggered negotiation (`event_based=false`, added to
+  `market-occupancy` for this reproduction): the same rounds, opened by each robot's clock instead
+  of its arrival; a robot that arrived waits for the next round.
+*Occupancy ablation*: `lambda_f = 0` means "the default" in our parameters, so `no-occupancy` sets
+  `lambda_f = {NO_OCCUPANCY_LAMBDA_F:g}`.
+*Traffic*: negotiation = `weight_request` + `weights` bytes; coordination = every message type
+  except map sharing (`map_update`, ...), i.e. `status` + `assign` for `burgard`. The byte model is
+  ours (a frontier point two float32, a weight one float32, a 7-byte header); the paper gives none.
+*Dispersion* is the mean group diameter (largest distance between two robots, cells, averaged over
+  the run).
+"""
+NOTES = [note for (note,) in render.text_rows(_NOTES)]
 
 
-def _settings(quick: bool, setups: Sequence[MapSetup]) -> Lines:
+def _settings(quick: bool) -> Lines:
     seeds, sizes = (QUICK_SEEDS, QUICK_TEAM_SIZES) if quick else (SEEDS, TEAM_SIZES)
-    maps, teams = "; ".join(f"{s.label}: {s.note}" for s in setups), ", ".join(map(str, sizes))
-    cells, periods = SENSOR_RANGE_M / CELL_SIZE_M, ", ".join(map(str, TIMER_PERIODS))
+    maps = "; ".join(f"{label}: {note}" for _, _, label, note in MAPS)
+    periods = ", ".join(map(str, TIMER_PERIODS))
     travel = ", ".join(f"{p * CELL_SIZE_M:g} m" for p in TIMER_PERIODS)
     rows = f"""
 environments | {PAPER_ENVIRONMENTS} indoor environments in ROS simulation (Fig. 9, not in our
   copy) | {maps}
 cell size, sensor | not given (ROS, laser and odometry SLAM) | real maps resampled to
-  {CELL_SIZE_M} m per cell, sensor range {SENSOR_RANGE_M:g} m = {cells:g} cells with line of
-  sight; office: {cells:g} cells
-team sizes | 1 to 3 robots | {teams}
+  {CELL_SIZE_M} m per cell, sensor range {SENSOR_RANGE_M:g} m = {SENSOR_RANGE_CELLS:g} cells with
+  line of sight; office: {SENSOR_RANGE_CELLS:g} cells
+team sizes | 1 to 3 robots | {", ".join(map(str, sizes))}
 runs | not given | {len(seeds)} seeds ({min(seeds)}-{max(seeds)}) per map, team size and arm; the
   seed places the team (adjacent cells), the same for every arm
 compared method | centralised market model of [3] (Burgard et al. 2005) | `burgard` at its
@@ -365,52 +325,46 @@ time | seconds of ROS simulation | ticks: one cell (0.2 m) of path per tick; exp
     return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], NOTES)
 
 
-def _teams(values: Mapping[str, Values]) -> dict[str, Values]:
-    """The cells of teams (2+ robots), where robots negotiate."""
+def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
+    """``metric -> (map, robots) -> arm -> seed -> value`` over the teams (2+ robots, where
+    robots negotiate), in the report's order: what :data:`CLAIMS` read."""
+    values = run_values(render.rows_of(stores)[0])
     return {m: {c: v for c, v in cells.items() if c[1] >= 2} for m, cells in values.items()}
 
 
-def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
-    """``metric -> (map, robots) -> arm -> seed -> value`` over the teams (2+ robots),
-    in the report's order: what :data:`CLAIMS` read."""
-    return _teams(run_values(render.rows_of(stores)[0], quick))
+def _bytes_figure(rows: Sequence[Row], cells: Sequence[CellKey], out: Path) -> Lines:
+    """The mean bytes per run by message type of each map and arm, in the largest teams."""
+    from mrexplore.viz.plots import plot_bytes_by_type
 
-
-def _bytes_by_type(rows: Sequence[Row], quick: bool, cells: Iterable[CellKey], arms: Any) -> Any:
-    """``"<map> <arm>" -> message type -> mean bytes per run`` of the largest teams."""
     largest = max((c[1] for c in cells), default=0)
+    runs = [((map_key(r), r["robots"], arm_of(r)), bytes_by_type(r)) for r in rows]
     bars: dict[str, dict[str, float]] = {}
-    for cell in (c for c in cells if c[1] == largest):
-        for arm in arms:
-            here = [
-                bytes_by_type(r)
-                for r in rows
-                if (map_key(r, quick), r["robots"]) == cell and arm_of(r) == arm
-            ]
+    for (key, robots), arm in ((c, a) for c in cells if c[1] == largest for a in ARMS):
+        if here := [by_type for run, by_type in runs if run == (key, robots, arm)]:
             types = sorted({t for by_type in here for t in by_type})
-            if here:
-                bars[f"{cell[0]} {arm}"] = {
-                    t: float(np.mean([b.get(t, 0.0) for b in here])) for t in types
-                }
-    return largest, bars
+            bars[f"{key} {arm}"] = {t: float(np.mean([b.get(t, 0.0) for b in here])) for t in types}
+    if not bars:
+        return []
+    title = f"Bytes per run by message type, {largest} robots (mean over seeds)"
+    plot_bytes_by_type(bars, out / "bytes_by_type.png", title=title, xlabel="map, arm")
+    return ["![bytes by message type](bytes_by_type.png)", ""]
 
 
 def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     """Write ``out/report.md`` and its figures from the experiments' stores."""
-    from mrexplore.viz.plots import plot_bytes_by_type
-
-    out, setups = Path(out), map_setups(quick)
-    labels: dict[str, str] = {s.key: s.label for s in setups}
+    out = Path(out)
     rows, statuses = render.rows_of(stores)
-    values = run_values(rows, quick)
-    teams, arms = _teams(values), render.arms_in(values["time"], ARMS)
+    values = run_values(rows)
+    teams, arms = tables(stores, quick), render.arms_in(values["time"], ARMS)
+
+    def named(cell: CellKey) -> CellKey:
+        return MAP_LABELS.get(cell[0], cell[0]), cell[1]
 
     def arm_tab(metric_values: Values, digits: int = 0, marks: Any = None) -> Lines:
-        label = lambda c: (labels.get(c[0], c[0]), c[1])  # noqa: E731
-        return render.arm_table(metric_values, ARMS, ["map", "robots"], label, digits, marks)
+        return render.arm_table(metric_values, ARMS, ["map", "robots"], named, digits, marks)
 
     def figure(metric_values: Values, name: str, ylabel: str, title: str, log: bool) -> Lines:
-        panels = render.panels_of(metric_values, arms, lambda c: labels.get(c[0], str(c[0])))
+        panels = render.panels_of(metric_values, arms, lambda c: MAP_LABELS.get(c[0], str(c[0])))
         axes = {"xlabel": "robots", "ylabel": ylabel, "colours": ARM_COLOURS, "log": log}
         return render.figure(out, name, panels, title=title, **axes)
 
@@ -418,11 +372,10 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         f"the three maps (the office 80 x 56 cells), {len(QUICK_SEEDS)} seeds (the RRT arm "
         f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
     )
-    lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
     coordination = ("coordination bytes per run", "Coordination traffic (all but map sharing)")
-    largest, bars = _bytes_by_type(rows, quick, list(values["time"]), arms)
+    lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
     lines += render.blocks(
-        _settings(quick, setups),
+        _settings(quick),
         "## Arms",
         render.table(["arm", "what"], [(f"`{a}`", ARM_LABELS[a]) for a in arms]),
         "## Exploration time (§IV, abstract)",
@@ -444,12 +397,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         "All bytes per run (with map sharing):",
         arm_tab(teams["bytes_total"]),
         figure(teams["coordination_bytes"], "coordination_bytes.png", *coordination, True),
-    )
-    if bars:
-        title = f"Bytes per run by message type, {largest} robots (mean over seeds)"
-        plot_bytes_by_type(bars, out / "bytes_by_type.png", title=title, xlabel="map, arm")
-        lines += ["![bytes by message type](bytes_by_type.png)", ""]
-    lines += render.blocks(
+        _bytes_figure(rows, list(values["time"]), out),
         "## Dispersion (abstract)",
         f'Paper: "{PAPER_DISPERSED}" (read from the text; no numbers).',
         "Ours: mean group diameter (cells), mean (sd; 95% CI; n):",

@@ -8,9 +8,10 @@ Figs. 6-12 are plots without numbers in the text: the paper's side is its settin
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +19,7 @@ import numpy as np
 
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import CellKey, Claim, Rule, Values
+from mrexplore.experiments.reproduce.claims import CellKey, Claim, Means, Needs, Rule, Values
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Row
 from mrexplore.experiments.store import Store, StoreError
 
@@ -29,8 +30,6 @@ CITATION = (
     "network\", Proc. 2nd IEEE International Conference on Intelligent Systems (IS'04), "
     "Varna, 2004, vol. 3, pp. 113-118, §4, Figs. 6-12."
 )
-
-# ------------------------------------------------------------------ the paper (§4)
 
 #: §4: "The robots have a diameter of 5 cm and their sensor range diameter is 45cm".
 PAPER_ROBOT_DIAMETER_M, PAPER_SENSOR_DIAMETER_M = 0.05, 0.45
@@ -46,8 +45,6 @@ PAPER_POSITION_ERROR, PAPER_BROADCAST_PERIOD_S = 0.05, 0.5
 PAPER_D1_SENSOR_DIAMETERS, PAPER_D2_FRACTION = 1.5, 0.9
 #: §4 (Figs. 6-8): above seven robots, Yamauchi's robots "perform worse".
 PAPER_YAMAUCHI_WORSE_ABOVE = 7
-
-# ------------------------------------------------------------------ our settings
 
 CELL_SIZE_M = 0.05  # one Khepera per cell
 SENSOR_RANGE_CELLS = PAPER_SENSOR_DIAMETER_M / 2 / CELL_SIZE_M  # 4.5
@@ -149,9 +146,6 @@ def experiments(quick: bool) -> list[Experiment]:
 sweeps = render.sweeps_for(ID, experiments)
 
 
-# ------------------------------------------------------------------ reading the runs
-
-
 class Metres(float):
     """A radio range in metres, printed with its unit (in the names of cells)."""
 
@@ -162,17 +156,13 @@ class Metres(float):
 def run_rows(stores: Mapping[str, Store]) -> tuple[list[dict[str, Any]], dict[str, int]]:
     """:func:`~render.rows_of` with each run's ``connected_share``: the share of its curve
     samples (every :data:`CURVES_EVERY` ticks) at which the team was one sub-network."""
+    share = "avg(CASE WHEN subnetworks <= 1 THEN 1 ELSE 0 END) AS share"
     rows, statuses = render.rows_of(stores)
     shares: dict[tuple[str, str], float] = {}
     for name, store in stores.items():
-        try:
-            found = store.query(
-                "SELECT run_id, avg(CASE WHEN subnetworks <= 1 THEN 1 ELSE 0 END) AS share "
-                "FROM curves GROUP BY run_id"
-            ).to_pylist()
-        except StoreError:  # no run finished, so there are no curves
-            found = []
-        shares.update({(name, r["run_id"]): r["share"] for r in found})
+        with contextlib.suppress(StoreError):  # no run finished, so there are no curves
+            found = store.query(f"SELECT run_id, {share} FROM curves GROUP BY run_id").to_pylist()
+            shares |= {(name, r["run_id"]): r["share"] for r in found}
     for row in rows:
         row["connected_share"] = shares.get((row["experiment"], row["run_id"]), math.nan)
     return rows, statuses
@@ -218,8 +208,6 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
     return run_values(run_rows(stores)[0])
 
 
-# ------------------------------------------------------------------ the paper's claims
-
 #: ``id | where | the claim in our words | the paper's sentence``, in the report's order.
 _CLAIM_WORDS = """
 trend | Figs. 6-11 | completion time drops with team size, with diminishing returns | the time
@@ -250,24 +238,14 @@ SHORTEST, LONGEST = (f"{VAZQUEZ}, {r:g} m" for r in PAPER_COMM_RANGES_M[::2])
 T99_ARMS = (f"{VAZQUEZ} T99", f"{YAMAUCHI} T99")
 #: How each claim is judged (our thresholds: the paper gives plots without numbers):
 #: ``id -> (rule, metric, first arm, second arm)``; cells are map x range x team size.
-FASTER = claims.Means(
-    "<", seeds="common", summary=True, needs=claims.Needs(0.9, partly_holds=1 / 3), also=T99_ARMS
-)
-ONE_MAP = claims.Means(
-    "<", seeds="common", summary=True, needs=claims.Needs(0.9, partly_holds=1 / 3)
-)
-VARIANCE = claims.Means(
-    ">", "sd", seeds="common", min_seeds=2, summary=True, needs=claims.Needs(0.75)
-)
+ONE_MAP = Means("<", seeds="common", summary=True, needs=Needs(0.9, partly_holds=1 / 3))
+FASTER = replace(ONE_MAP, also=T99_ARMS)
+VARIANCE = replace(ONE_MAP, relation=">", statistic="sd", min_seeds=2, needs=Needs(0.75))
+ABOVE_7 = claims.RisesAbove(PAPER_YAMAUCHI_WORSE_ABOVE, within=("small",))
 _RULES: dict[str, tuple[Rule, str, str, str]] = {
     "trend": (claims.Trend("diminishing"), "time", VAZQUEZ, YAMAUCHI),
     "faster": (FASTER, "time", VAZQUEZ, YAMAUCHI),
-    "above_7": (
-        claims.RisesAbove(PAPER_YAMAUCHI_WORSE_ABOVE, within=("small",)),
-        "time",
-        YAMAUCHI,
-        "",
-    ),
+    "above_7": (ABOVE_7, "time", YAMAUCHI, ""),
     "variance": (VARIANCE, "time", YAMAUCHI, VAZQUEZ),
     "range_tradeoff": (claims.Ratio("<=", 1.25, seeds="common"), "ranges", SHORTEST, LONGEST),
     "range_gap": (claims.Trend("gap", needs=claims.SOME_WEAK), "ranges", SHORTEST, LONGEST),
@@ -327,8 +305,6 @@ replan-on-connectivity-change | Fig. 2 "When a change in behaviour is detected t
   re-plan (`replan_on_behaviour=connectivity`) | replan_on_behaviour=connectivity | {VAZQUEZ}
 """)
 
-# ------------------------------------------------------------------ the report
-
 
 def _map_table(rows: Sequence[Row], out: Path) -> Lines:
     """The offices run: explorable area against the paper's, and a picture (walls black)."""
@@ -357,17 +333,16 @@ PALETTE = ("#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e
 COLOURS = dict(zip([VAZQUEZ, YAMAUCHI, *CURVES], PALETTE, strict=True))
 
 
-def _figure(out: Path, name: str, title: str, panels: Any, ylabel: str = T100) -> Lines:
-    """A figure of mean against team size (95% CI), from :func:`render.panels_of`."""
-    axes = {"xlabel": "robots", "ylabel": ylabel, "colours": COLOURS}
-    return render.figure(out, name, panels, title=title, **axes)
-
-
 def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     """Write ``out/report.md`` and its figures from the experiments' stores."""
     rows, statuses = run_rows(stores)
     values = run_values(rows)
     arms, cells = list(STRATEGIES), ["map", "range", "robots"]
+
+    def figure(name: str, title: str, panels: render.Panels, ylabel: str = T100) -> Lines:
+        axes = {"xlabel": "robots", "ylabel": ylabel, "colours": COLOURS}
+        return render.figure(out, name, panels, title=title, **axes)
+
     quick_note = (
         f"one office of {QUICK_MAP.size} cells (about half the paper's small one), ranges "
         f"{' and '.join(f'{r * CELL_SIZE_M:g} m' for r in QUICK_RANGES)}, "
@@ -396,11 +371,11 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     for label, spec in MAPS.items():  # Figs. 6-11: a panel per range
         part = {c: by_arm for c, by_arm in values["time"].items() if c[0] == label}
         panels = render.panels_of(part, arms, lambda c: f"range {c[1]}")
-        lines += _figure(out, f"time_{label}.png", f"{spec.figures}: {label} environment", panels)
+        lines += figure(f"time_{label}.png", f"{spec.figures}: {label} environment", panels)
     panels = render.panels_of(values["ranges"], CURVES)  # a panel per map
-    lines += _figure(out, "fig12.png", "Fig. 12: vazquez-network by range", panels)
+    lines += figure("fig12.png", "Fig. 12: vazquez-network by range", panels)
     panels = render.panels_of(by_range(values["connected"], arms), CURVES)
-    lines += _figure(out, "connected.png", "One sub-network (not in the paper)", panels, "share")
+    lines += figure("connected.png", "One sub-network (not in the paper)", panels, "share")
     return render.write_report(out, lines, CLAIMS, values)
 
 
