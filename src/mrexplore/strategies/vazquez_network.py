@@ -722,9 +722,10 @@ class VazquezNetwork(Strategy):
         "replan_on_behaviour": Param(
             "any",
             "",
-            "re-evaluate the plan on any change of behaviour (Fig. 2) or only into and "
+            "re-evaluate the plan on any change of behaviour (Fig. 2), on any but into or "
+            "out of avoid-collision, which re-routes to the goal (§3.3.2), or only into and "
             "out of achieve-connectivity",
-            choices=("any", "connectivity"),
+            choices=("any", "reroute-collision", "connectivity"),
         ),
         **REPLAN_PARAMS,
         # "If the robot arrives at the current frontier the exploration algorithm its
@@ -931,9 +932,12 @@ class VazquezNetwork(Strategy):
             disconnected=bool(self.lost),
         )
         previous = self.behaviour
+        replan = self.p["replan_on_behaviour"]
+        changed = {behaviour, self.behaviour}
         switched = behaviour != self.behaviour and (
-            self.p["replan_on_behaviour"] == "any"
-            or ACHIEVE_CONNECTIVITY in (behaviour, self.behaviour)
+            replan == "any"
+            or ACHIEVE_CONNECTIVITY in changed
+            or (replan == "reroute-collision" and AVOID_COLLISION not in changed)
         )
         self.behaviour = behaviour
         pair = self.stretched | partners

@@ -303,6 +303,10 @@ utility-in-cells | §3.2, after Simmons: information gain minus cost | one unkno
 replan-on-connectivity-change | Fig. 2 "When a change in behaviour is detected the robot will
   reevaluate its current plan" | only a change into or out of achieve-connectivity makes it
   re-plan (`replan_on_behaviour=connectivity`) | replan_on_behaviour=connectivity | {VAZQUEZ}
+collision-reroutes | §3.3.2 "The avoid-collision behaviour causes a re-evaluation of paths to
+  the current goal" | entering or leaving avoid-collision re-routes to the current goal instead
+  of choosing a new frontier (`replan_on_behaviour=reroute-collision`) |
+  replan_on_behaviour=reroute-collision | {VAZQUEZ}
 """)
 
 
