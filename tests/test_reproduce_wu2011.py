@@ -147,15 +147,14 @@ def test_separate_starts_differ_between_seeds_and_not_between_strategies() -> No
 # ------------------------------------------------------------------ helpers
 
 
-def test_step_values_and_time_mean_carry_the_final_value() -> None:
+def test_time_mean_carries_the_final_value() -> None:
     ticks = np.array([0.0, 10.0, 20.0, 23.0])
     values = np.array([4.0, 8.0, 6.0, 2.0])
-    grid = np.array([0.0, 10.0, 20.0, 30.0, 40.0])
-    assert repro.step_values(ticks, values, grid).tolist() == [4.0, 8.0, 6.0, 2.0, 2.0]
-    assert repro.time_mean(ticks, values, 40, 10) == pytest.approx(22.0 / 5)
+    assert repro.time_mean(ticks, values, 40, 10) == pytest.approx((4 + 8 + 6 + 2 + 2) / 5)
     assert repro.time_mean(ticks, values, 25, 10) == pytest.approx((4 + 8 + 6 + 2) / 4)
-    # Before the first sample there is no value.
-    assert math.isnan(repro.step_values(np.array([5.0]), np.array([1.0]), np.array([0.0]))[0])
+    # Before the first sample there is no value: tick 0 is left out.
+    assert repro.time_mean(np.array([5.0]), np.array([3.0]), 10, 10) == 3.0
+    assert math.isnan(repro.time_mean(np.array([5.0]), np.array([1.0]), 0, 10))
 
 
 def _rows_and_curves() -> tuple[list[dict[str, object]], pa.Table]:

@@ -325,14 +325,6 @@ COLOURS |= {EXACT: "#555555", RAW: "#d62728", RAW_HALF: "#ff7f0e"}
 ARMS = [*(f"{SR} {r:g}" for r in PAPER_TABLE1), CENTRALISED, EXACT, RAW, RAW_HALF]
 
 
-def _table(values: Values, columns: Sequence[str] = ("map", "robots"), **options: Any) -> Lines:
-    return [*render.arm_table(values, ARMS, list(columns), **options), ""]
-
-
-def _name(cell: Any) -> str:
-    return f"{cell[0]}/{cell[1]}r"
-
-
 def _xs(arms: Mapping[str, Summary], flat: Sequence[str] = ()) -> dict[str, Any]:
     """A :func:`render.figure` panel: ``SR`` arms by rate, ``flat`` arms level."""
     xs = {level(a): arms[a] for a in family(arms, SR)}
@@ -344,11 +336,6 @@ def _with_paper(ours: Mapping[str, Summary], paper: Mapping[float, float]) -> di
     return {"ours": _xs(ours)["polygon"], "paper": _xs(theirs)["polygon"]}
 
 
-def _figure(out: Path, name: str, title: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
-    axes = {"xlabel": "split rate (splits/s)", "ylabel": ylabel, "colours": COLOURS, "log": log}
-    return render.figure(out, name, panels, title=title, logx=True, **axes)
-
-
 def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     """Write ``out/report.md`` and its figures from the experiments' stores."""
     out, (rows, statuses) = Path(out), render.rows_of(stores)
@@ -356,42 +343,53 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     t = claim_tables(values, quick)
     s = {metric: render.summaries(v) for metric, v in {**values, **t}.items()}
     one, fig7, low = next(iter(t["error"])), next(iter(t["traffic"])), f"{SR} {LOW_SPLIT_RATE:g}"
+
+    def table(cells: Values, columns: Sequence[str] = ("map", "robots"), **options: Any) -> Lines:
+        return [*render.arm_table(cells, ARMS, list(columns), **options), ""]
+
+    def name(cell: Any) -> str:
+        return f"{cell[0]}/{cell[1]}r"
+
+    def figure(file: str, title: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
+        axes = {"xlabel": "split rate (splits/s)", "ylabel": ylabel, "colours": COLOURS, "log": log}
+        return render.figure(out, file, panels, title=title, logx=True, **axes)
+
     ratios = [
-        f"{_name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
+        f"{name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
         for c, x in s["rate"].items()
         if c in t["time"] and low in x
     ]
     lines = render.report_head(TITLE, CITATION, statuses, QUICK_NOTE if quick else None)
     lines += [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
     lines += ["Ours: T99 (ticks); `*`: some runs never reached 99% and are left out.", ""]
-    lines += _table(t["time"], flags=render.unfinished(values["reached"]))
-    panels = {_name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
-    lines += _figure(out, "fig6_exploration_time.png", "Fig. 6", panels, "T99 (ticks)")
+    lines += table(t["time"], flags=render.unfinished(values["reached"]))
+    panels = {name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
+    lines += figure("fig6_exploration_time.png", "Fig. 6", panels, "T99 (ticks)")
     lines += ["## Traffic (§2, §5.2, §5.3, Fig. 7)", "", TRAFFIC + ", ".join(ratios), ""]
     for text, metric, digits in (
         ("Bytes per tick per robot", "rate", 1),
         ("Bytes per run", "bytes", 0),
         ("Map-sharing bytes per run (all but TPT, `status`, `assign`)", "map_bytes", 0),
     ):
-        lines += [f"{text}:", "", *_table(values[metric], digits=digits)]
-    panels = {_name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
-    lines += _figure(out, "fig7_traffic.png", "Fig. 7", panels, "bytes per run", log=True)
+        lines += [f"{text}:", "", *table(values[metric], digits=digits)]
+    panels = {name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
+    lines += figure("fig7_traffic.png", "Fig. 7", panels, "bytes per run", log=True)
     paper1 = [[f"{r:g}", *(f"{v:.2f}" for v in row.values())] for r, row in PAPER_TABLE1.items()]
     lines += ["## Table 1: share (%) of the bytes by package type", "", "Paper:", ""]
-    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({_name(one)}):", ""]
-    lines += _table(t["shares"], ["package"], digits=2)
+    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({name(one)}):", ""]
+    lines += table(t["shares"], ["package"], digits=2)
     panels = {
         p: _with_paper(s["shares"][(p,)], {r: row[p] for r, row in PAPER_TABLE1.items()})
         for p in PACKAGE_TYPES
     }
-    lines += _figure(out, "table1_package_shares.png", "Table 1", panels, "share of bytes (%)")
+    lines += figure("table1_package_shares.png", "Table 1", panels, "share of bytes (%)")
     end = values["error_end"].get(one, {})
     errors = {("mean over the run",): t["error"][one], ("at the end",): end}
     paper2 = ", ".join(f"SR {r:g}: {v}" for r, v in PAPER_TABLE2.items())
     lines += ["## Table 2: approximation error (%)", "", f"Paper: {paper2}.", ""]
-    lines += _table(errors, ["error"], digits=2)
+    lines += table(errors, ["error"], digits=2)
     panels = {"Table 2": _with_paper(s["error"][one], PAPER_TABLE2)}
-    lines += _figure(out, "table2_approximation_error.png", "Table 2", panels, "error (%)", True)
+    lines += figure("table2_approximation_error.png", "Table 2", panels, "error (%)", True)
     return render.write_report(out, lines, CLAIMS, t)
 
 

@@ -72,12 +72,11 @@ BROADCAST_TYPES = ("map_delta", "map_update")
 CASE_RANDOM, CASE_WITHOUT, CASE_WITH = "random", "bidding w3=0", "bidding w3=1.5"
 CASES = (CASE_RANDOM, CASE_WITHOUT, CASE_WITH)
 COLOURS = {CASE_RANDOM: "#7f7f7f", CASE_WITHOUT: "#1f77b4", CASE_WITH: "#d62728"}
-#: Table 4's columns (its arms): a run's sharing mechanism, and two numbers of the runs
-#: with tracking (partition events; broadcast bytes, not counted).
+#: Table 4's columns (its arms): a run's sharing mechanism, then numbers of the runs with
+#: tracking: partition events, merges, cells per merge, broadcast bytes (not counted).
 TRACKING = {"full": "without tracking", "sheng-sync": "with tracking"}
 WITHOUT, WITH = TRACKING.values()
-PARTITIONS, BROADCAST = "partitions", "broadcast"
-MERGES, PER_MERGE = "merges", "cells per merge"  # of the sheng-sync runs
+PARTITIONS, MERGES, PER_MERGE, BROADCAST = "partitions", "merges", "cells per merge", "broadcast"
 #: The paper's measure: both volumes from the same `sheng-sync` runs, each message once
 #: (its "volumes of map data that are supposed to be exchanged if the map update
 #: tracking scheme is not used"), in our byte model (5 bytes a cell) and at 1 byte a cell.
@@ -156,19 +155,18 @@ def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
     fig11 = {"diameter": render.measured("group_diameter_mean")}
     figs = of("fig12_13", BOTH, lambda r: (r["robots"],))
     fig17 = of("fig17", BOTH, lambda r: (int(r["comm_range"]),))  # whole cells in Fig. 17
-    w3 = lambda r: (f"w3={r['param_w3']:g}",)  # noqa: E731
+    w3 = lambda r: (f"w3={r['param_w3']:g}",)  # noqa: E731 (a cell key, as those above)
     table4 = of("table4", TABLE4_METRICS, w3, lambda r: TRACKING[r["sharing"]])
-
-    def shown(cell: Any) -> dict[str, dict[int, float]]:  # columns of the sheng-sync runs
-        columns = (*SAME_RUN, PARTITIONS, MERGES, PER_MERGE, BROADCAST)
-        return {k: table4[k][cell].get(WITH, {}) for k in columns}
-
+    with_only = (*SAME_RUN, PARTITIONS, MERGES, PER_MERGE, BROADCAST)  # of the sheng-sync runs
     return {
         **of("fig11", fig11, lambda r: (r["robots"],)),
         "diameter_runs": of("fig11", fig11, lambda r: (r["seed"],))["diameter"],
         **figs,
         **{f"{k}_teams": {c: v for c, v in figs[k].items() if c[0] >= 2} for k in figs},
-        "table4": {c: {**arms, **shown(c)} for c, arms in table4["bytes"].items()},
+        "table4": {
+            c: {**arms, **{k: table4[k][c].get(WITH, {}) for k in with_only}}
+            for c, arms in table4["bytes"].items()
+        },
         "fig17": {(k, *c): arms for k in fig17 for c, arms in fig17[k].items()},
         **{f"fig17 {k}": v for k, v in fig17.items()},
         **{f"table4 {k}": v for k, v in table4.items()},
@@ -320,26 +318,26 @@ def _settings(quick: bool) -> list[tuple[str, str, str]]:
     seeds = {k: f"{n} seed{'s' * (n > 1)}" for k, n in (QUICK_SEEDS if quick else SEEDS).items()}
     ranges = ", ".join(map(str, QUICK_RANGES if quick else FIG17_RANGES))
     sizes = ", ".join(map(str, QUICK_TEAM_SIZES)) if quick else "1..8"
-    return [
-        ("map", "40 x 40, two obstacles (not drawn)", f"`{MAP}`: obstacles 8 x 12 and 12 x 6"),
-        ("sensor range r_s", "4 cell units", "4 cells, line of sight"),
-        ("communication r_c", "16 cell units", "16 cells, multi-hop, through walls"),
-        ("sensing", "not while travelling (§2.1)", "`sensing = arrival`"),
-        ("start", "close together (§3); varied places / times", "adjacent, placed by the seed"),
-        ("time", "seconds", f"ticks: a hop's latency, {SPEED:g} cell of path"),
-        ("bidding time", "t_bid = 1.5 s", "t_bid = T_grace = t_d + 1 ticks (T_win = 0)"),
-        ("eq. (2) units", "not given", "I_i, D_i in cells; lambda_i in units of r_c cells"),
-        ("omega1, omega2; omega3 off / on", "1.0, 1.0; 0 / 1.5 (Figs. 9-10)", "the same"),
-        ("alpha (eq. 1)", "positive, < 1 (value not given)", "0.5 (strategy default)"),
-        ("map sharing", "§4 synchronisation", "`sheng-sync` (Table 4: also `full`)"),
-        ("random baseline", "random frontier cells (case 1)", "each kept until reached"),
-        ("exploration time", "until no frontier is left (§3.3)", "`T100` (unfinished: missing)"),
-        ("Fig. 11", "4 robots, 8 runs", f"4 robots, {seeds['fig11']}"),
-        ("Figs. 12-13", "1..8 robots, 6 runs", f"{sizes} robots, {seeds['fig12_13']}"),
-        ("Table 4", "5 robots, w3 = 0, 1, 2, 20 runs", f"the same, {seeds['table4']}"),
-        ("Fig. 17", "5 robots, r_c = 4..24, 6 runs", f"5 robots, r_c = {ranges}, {seeds['fig17']}"),
-        ("error bars", '"the deviation"', "95% CI of the mean; the tables give the sd too"),
-    ]
+    rows = f"""
+map | 40 x 40, two obstacles (not drawn) | `{MAP}`: obstacles 8 x 12 and 12 x 6
+sensor range r_s | 4 cell units | 4 cells, line of sight
+communication r_c | 16 cell units | 16 cells, multi-hop, through walls
+sensing | not while travelling (§2.1) | `sensing = arrival`
+start | close together (§3); varied places / times | adjacent, placed by the seed
+time | seconds | ticks: a hop's latency, {SPEED:g} cell of path
+bidding time | t_bid = 1.5 s | t_bid = T_grace = t_d + 1 ticks (T_win = 0)
+eq. (2) units | not given | I_i, D_i in cells; lambda_i in units of r_c cells
+omega1, omega2; omega3 off / on | 1.0, 1.0; 0 / 1.5 (Figs. 9-10) | the same
+alpha (eq. 1) | positive, < 1 (value not given) | 0.5 (strategy default)
+map sharing | §4 synchronisation | `sheng-sync` (Table 4: also `full`)
+random baseline | random frontier cells (case 1) | each kept until reached
+exploration time | until no frontier is left (§3.3) | `T100` (unfinished: missing)
+Fig. 11 | 4 robots, 8 runs | 4 robots, {seeds["fig11"]}
+Figs. 12-13 | 1..8 robots, 6 runs | {sizes} robots, {seeds["fig12_13"]}
+Table 4 | 5 robots, w3 = 0, 1, 2, 20 runs | the same, {seeds["table4"]}
+Fig. 17 | 5 robots, r_c = 4..24, 6 runs | 5 robots, r_c = {ranges}, {seeds["fig17"]}
+error bars | "the deviation" | 95% CI of the mean; the tables give the sd too"""
+    return [(a, b, c) for a, b, c in render.text_rows(rows)]
 
 
 #: The report's sections: heading -> where in the paper its claims stand.

@@ -86,30 +86,20 @@ sweeps = render.sweeps_for(ID, experiments)
 # ------------------------------------------------------------- per-run numbers
 
 
-def step_values(ticks: FloatArray, values: FloatArray, grid: FloatArray) -> FloatArray:
-    """A sampled curve at the ``grid`` ticks (``ticks`` increasing): the last sample at
-    or before each tick (a run that ended keeps its last value; nan before the first).
-
-    >>> step_values(np.array([0.0, 10.0, 14.0]), np.array([1.0, 2.0, 3.0]),
-    ...             np.array([0.0, 5.0, 10.0, 20.0]))
-    array([1., 1., 2., 3.])
-    """
-    at = np.searchsorted(ticks, grid, side="right") - 1
-    out = np.full(grid.shape, np.nan)
-    out[at >= 0] = values[at[at >= 0]]
-    return out
-
-
 def time_mean(ticks: FloatArray, values: FloatArray, horizon: int, every: int) -> float:
-    """Mean of a run's curve at the ticks ``0, every, 2 every, ... <= horizon`` and at
-    ``horizon`` (:func:`step_values`: carried past the run's end): "the value during the
-    exploration" as one number.
+    """Mean of a run's curve (``ticks`` increasing) at the ticks ``0, every, 2 every, ...
+    <= horizon`` and at ``horizon``, each its last sample at or before the tick (carried
+    past the run's end, none before its first): "the value during the exploration".
 
     >>> time_mean(np.array([0.0, 10.0, 12.0]), np.array([4.0, 2.0, 1.0]), 25, 10)
     2.0
+    >>> time_mean(np.array([5.0]), np.array([1.0]), 0, 10)
+    nan
     """
     grid = np.arange(0, horizon + 1, every, dtype=np.float64)
-    sampled = step_values(ticks, values, grid if grid[-1] == horizon else np.append(grid, horizon))
+    grid = grid if grid[-1] == horizon else np.append(grid, horizon)
+    at = np.searchsorted(ticks, grid, side="right") - 1
+    sampled = values[at[at >= 0]]
     finite = sampled[np.isfinite(sampled)]
     return float(finite.mean()) if finite.size else math.nan
 
@@ -133,16 +123,14 @@ def with_curve_means(rows: Sequence[render.Row], curves: pa.Table | None) -> lis
             runs[ids[i[0]]] = {c: v[i] for c, v in data.items()}
     horizons: dict[tuple[str, int], int] = {}
     for r in (r for r in rows if r["run_id"] in runs):
-        end = int(runs[r["run_id"]]["tick"][-1])
-        horizons[r["map"], r["robots"]] = max(horizons.get((r["map"], r["robots"]), 0), end)
+        key = r["map"], r["robots"]
+        horizons[key] = max(horizons.get(key, 0), int(runs[r["run_id"]]["tick"][-1]))
+    none = dict.fromkeys(("tick", *CURVES), np.zeros(0))  # no curve: nan
     out = []
     for r in rows:
-        run, horizon = runs.get(r["run_id"]), horizons.get((r["map"], r["robots"]), 0)
-        row = {**r, "horizon": horizon}
-        for c in CURVES:
-            mean = time_mean(run["tick"], run[c], horizon, CURVES_EVERY) if run else math.nan
-            row[f"{c[:3]}_time"] = mean
-        out.append(row)
+        run, horizon = runs.get(r["run_id"], none), horizons.get((r["map"], r["robots"]), 0)
+        means = [time_mean(run["tick"], run[c], horizon, CURVES_EVERY) for c in CURVES]
+        out.append({**r, "horizon": horizon, **dict(zip(CURVE_METRICS, means, strict=True))})
     return out
 
 
@@ -261,25 +249,23 @@ all-replan-on-arrival | {_STEP_11}, as the trigger of every method that has one 
 def _settings(quick: bool) -> render.Lines:
     """The settings, the paper's (§V.A-B) beside ours, and our choices where it is silent."""
     size, seeds = (QUICK_MAP_SIZE, QUICK_SEEDS) if quick else (MAP_SIZE, SEEDS)
-    maps = f"our generators, {size}x{size} cells, `map_seed = {MAP_SEED}`" + " (quick: one)" * quick
-    ours = "`nearest-frontier`, `burgard`, `zlot-market`, `kme` at their defaults"
-    paper_runs = f"{PAPER_RUNS_PER_CONFIGURATION} set-ups ({PAPER_CONFIGURATIONS} configurations)"
-    regions = f"{N_REGIONS} equal regions (also {', '.join(map(str, PAPER_REGION_COUNTS))})"
     teams = ", ".join(map(str, QUICK_TEAM_SIZES if quick else TEAM_SIZES))
-    paper_teams = f"{PAPER_TEAM_SIZES[0]} to {PAPER_TEAM_SIZES[-1]} (figures: 2, 4, 6, 8)"
-    rows = [
-        ("maps", "blank, unstructured, cityblock (Fig. 4); size not given", maps),
-        ("sensor range", "not given", f"{SENSOR_RANGE} cells (a tenth of the side), line of sight"),
-        ("sensing", 'a robot "arrives at a cell at step t and explores"', "every tick (`moving`)"),
-        ("strategies", "YMC [3], Burgard [4, 5], Zlot [6], KME", ours),
-        ("team sizes", paper_teams, teams),
-        ("starting schemes", "together / separate among 15 locations", "placed by the seed, alike"),
-        ("runs per combination", paper_runs, f"{len(seeds)} seeds, one set-up each"),
-        ("end of a run", "every cell known", f"every explorable cell, at most {MAX_TICKS} ticks"),
-        ("communication", "not limited", "unlimited range, latency 1 tick, `full` map sharing"),
-        ("regions", regions, f"{N_REGIONS} equal rectangles (4 x 2), `wtv_8`, `epv_8`"),
-        ("time; curves", "steps; mean of 15 runs", f"ticks; every {CURVES_EVERY} ticks, 95% CI"),
-    ]
+    rows = f"""
+maps | blank, unstructured, cityblock (Fig. 4); size not given | our generators, {size}x{size}
+  cells, `map_seed = {MAP_SEED}`{" (quick: one)" * quick}
+sensor range | not given | {SENSOR_RANGE} cells (a tenth of the side), line of sight
+sensing | a robot "arrives at a cell at step t and explores" | every tick (`moving`)
+strategies | YMC [3], Burgard [4, 5], Zlot [6], KME | `nearest-frontier`, `burgard`,
+  `zlot-market`, `kme` at their defaults
+team sizes | {PAPER_TEAM_SIZES[0]} to {PAPER_TEAM_SIZES[-1]} (figures: 2, 4, 6, 8) | {teams}
+starting schemes | together / separate among 15 locations | placed by the seed, alike
+runs per combination | {PAPER_RUNS_PER_CONFIGURATION} set-ups ({PAPER_CONFIGURATIONS}
+  configurations) | {len(seeds)} seeds, one set-up each
+end of a run | every cell known | every explorable cell, at most {MAX_TICKS} ticks
+communication | not limited | unlimited range, latency 1 tick, `full` map sharing
+regions | {N_REGIONS} equal regions (also {", ".join(map(str, PAPER_REGION_COUNTS))}) |
+  {N_REGIONS} equal rectangles (4 x 2), `wtv_8`, `epv_8`
+time; curves | steps; mean of 15 runs | ticks; every {CURVES_EVERY} ticks, 95% CI"""
     notes = (
         "*WTV and EPV* follow `mrexplore.metrics.regions` (eqs. 8-10), over the explorable "
         "cells only (the paper counts every cell). *WTV over time*, our one number per run for "
@@ -293,15 +279,7 @@ def _settings(quick: bool) -> render.Lines:
         "its target stops being a frontier (`replan_on_target_explored`, its default), as do "
         "`nearest-frontier` and `burgard`; the readings of the robustness section differ.",
     )
-    return render.settings_table(rows, notes)
-
-
-def _strategy_table(values: claims.Values, columns: Sequence[str], digits: int) -> render.Lines:
-    """Mean (sd; CI; n) per cell and strategy, ``*`` on the cell's lowest mean; the last
-    ``len(columns)`` keys of a cell label its row."""
-    flags = {(c, str(claims.lowest_arm(arms, STRATEGIES))): "*" for c, arms in values.items()}
-    label = lambda c: c[-len(columns) :]  # noqa: E731 (a key function)
-    return [*render.arm_table(values, STRATEGIES, columns, label, digits, flags), ""]
+    return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], notes)
 
 
 #: The report's sections: where in the paper, title, the (map, scheme) of their cells
@@ -327,16 +305,19 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     for where, title, scheme, metrics, curve in SECTIONS:
         said = [f'Paper ({c.where}): "{c.sentence}"' for c in CLAIMS if c.where.startswith(where)]
         lines += [f"## {where}: {title}", "", *said, "(read from the text: no numbers)", ""]
-        columns = ["robots"] if scheme else ["map", "scheme", "robots"]
-        for metric in metrics:
-            shown = {c: v for c, v in values[metric].items() if scheme in (None, c[:2])}
+        cut, columns = (2, ["robots"]) if scheme else (0, ["map", "scheme", "robots"])
+        for metric in metrics:  # rows labelled by the cell's keys below the section's
+            shown = {c[cut:]: v for c, v in values[metric].items() if c[:cut] in ((), scheme)}
+            flags = {(c, str(claims.lowest_arm(v, STRATEGIES))): "*" for c, v in shown.items()}
+            digits = int(metric == "epv_time")
             lines += [f"Ours: {LABELS[metric]}, mean (sd; 95% CI; n), `*` the lowest:", ""]
-            lines += _strategy_table(shown, columns, int(metric == "epv_time"))
+            table = render.arm_table(shown, STRATEGIES, columns, flags=flags, digits=digits)
+            lines += [*table, ""]
         if curve == CURVES[1]:  # every region is explored at the end: the final EPV is 0
             lines += ["(The final EPV is 0 in every complete run: every region is at 100%.)", ""]
         if scheme is None or curve is None or curves is None:
             continue  # §V.C: every map, the figures below
-        for robots in sorted({c[2] for c in shown}):
+        for robots in sorted({c[-1] for c in shown}):
             figure = f"{where}, {robots} robots"
             name = f"fig{where[-1]}_{curve[:3]}_{scheme[1]}_{robots}r.png"
             here = [r for r in rows if (r["map"], r["start"], r["robots"]) == (*scheme, robots)]
