@@ -9,6 +9,7 @@ connected).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -666,24 +667,10 @@ LIVELOCKS = [
 ]
 
 
-@pytest.mark.xfail(strict=True, reason="known livelocks of non-default readings, not fixed")
-@pytest.mark.parametrize(
-    ("constrain", "rule", "targets", "replan", "width", "map_seed", "seed", "sensor"),
-    LIVELOCKS,
-)
-def test_known_livelocks_of_non_default_readings(
-    constrain: str,
-    rule: str,
-    targets: bool,
-    replan: str,
-    width: int,
-    map_seed: int,
-    seed: int,
-    sensor: float,
-) -> None:
-    """Each run stalls (no new cell for 400 ticks, well under a second); it would
-    complete if the livelock were fixed. The default readings complete all 128 runs
-    of the benchmark."""
+def _livelock_status(case: tuple[Any, ...], replan: str | None = None) -> tuple[str, int]:
+    """Status and length of one :data:`LIVELOCKS` run (stall after 400 ticks without a
+    new cell), with its own ``replan_on_behaviour`` unless ``replan`` is given."""
+    constrain, rule, targets, own_replan, width, map_seed, seed, sensor = case
     record = simulate(
         Scenario(
             map="office",
@@ -698,59 +685,42 @@ def test_known_livelocks_of_non_default_readings(
                 "constrain_bridges": constrain,
                 "no_frontier_rule": rule,
                 "zone_includes_targets": targets,
-                "replan_on_behaviour": replan,
+                "replan_on_behaviour": replan or own_replan,
             },
             coverage_threshold=1.0,
             max_ticks=6000,
             stall_ticks=400,
         )
     )
-    assert record.status == "complete", (record.status, record.ticks)
+    return record.status, record.ticks
+
+
+@pytest.mark.xfail(strict=True, reason="known livelocks of non-default readings, not fixed")
+@pytest.mark.parametrize("case", LIVELOCKS)
+def test_known_livelocks_of_non_default_readings(case: tuple[Any, ...]) -> None:
+    """Each run stalls (no new cell for 400 ticks, well under a second); it would
+    complete if the livelock were fixed. The default readings complete all 128 runs
+    of the benchmark."""
+    status, ticks = _livelock_status(case)
+    assert status == "complete", (status, ticks)
 
 
 @pytest.mark.parametrize(
-    ("constrain", "rule", "targets", "replan", "width", "map_seed", "seed", "sensor"),
+    "case",
     [case for case in LIVELOCKS if case[3] == "any"]
     + [
-        pytest.param(*case, marks=pytest.mark.xfail(strict=True, reason="the swap"))
+        pytest.param(case, marks=pytest.mark.xfail(strict=True, reason="the swap"))
         for case in LIVELOCKS
         if case[3] == "connectivity"
     ],
 )
 def test_rerouting_on_avoid_collision_ends_the_chase_and_the_chatter(
-    constrain: str,
-    rule: str,
-    targets: bool,
-    replan: str,
-    width: int,
-    map_seed: int,
-    seed: int,
-    sensor: float,
+    case: tuple[Any, ...],
 ) -> None:
     """§3.3.2 "The avoid-collision behaviour causes a re-evaluation of paths to the
     current goal": with ``replan_on_behaviour=reroute-collision`` the runs that stall
     under ``any`` (the chase and the chatter) complete. (The swap cases stall under it
     as under ``connectivity``: ``any`` escapes them only by the re-plans as the pair
     passes, so this reading is not the default without a fix of the swap.)"""
-    record = simulate(
-        Scenario(
-            map="office",
-            size=(width, width),
-            map_seed=map_seed,
-            robots=2,
-            seed=seed,
-            sensor_range=sensor,
-            comm_range=round(width / 3),
-            strategy="vazquez-network",
-            params={
-                "constrain_bridges": constrain,
-                "no_frontier_rule": rule,
-                "zone_includes_targets": targets,
-                "replan_on_behaviour": "reroute-collision",
-            },
-            coverage_threshold=1.0,
-            max_ticks=6000,
-            stall_ticks=400,
-        )
-    )
-    assert record.status == "complete", (record.status, record.ticks)
+    status, ticks = _livelock_status(case, replan="reroute-collision")
+    assert status == "complete", (status, ticks)
