@@ -126,6 +126,13 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: together)",
     )
     run.add_argument(
+        "--start-delay",
+        type=int,
+        default=0,
+        help="robots start at different ticks, each drawn uniformly from 0..N by the seed, "
+        "the earliest at 0; dormant before (default: 0, all at once)",
+    )
+    run.add_argument(
         "--sensing",
         default="moving",
         choices=["moving", "arrival"],
@@ -398,6 +405,7 @@ def _scenario_from_args(args: argparse.Namespace) -> Any:
         seed=args.seed,
         max_ticks=args.max_ticks,
         start=start,
+        start_delay=args.start_delay,
         sensing=args.sensing,
         sharing=args.sharing,
         sharing_params=_pairs("--share", args.share),

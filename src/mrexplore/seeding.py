@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 # The order of these names is part of reproducibility: append, never reorder.
-_STREAMS = ("map", "starts", "comm", "failures", "robots")
+_STREAMS = ("map", "starts", "comm", "failures", "robots", "start_times")
 
 
 @dataclass(frozen=True)
@@ -24,6 +24,7 @@ class Streams:
     comm: np.random.Generator
     failures: np.random.Generator
     robots: tuple[np.random.Generator, ...]
+    start_times: np.random.Generator
 
 
 def make_streams(seed: int, n_robots: int) -> Streams:
@@ -42,4 +43,5 @@ def make_streams(seed: int, n_robots: int) -> Streams:
         comm=np.random.default_rng(named["comm"]),
         failures=np.random.default_rng(named["failures"]),
         robots=robots,
+        start_times=np.random.default_rng(named["start_times"]),
     )

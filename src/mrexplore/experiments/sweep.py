@@ -161,7 +161,7 @@ def validate_scenario(scenario: Scenario) -> None:
 #: Scenario fields added after runs were first stored, with their defaults: at the
 #: default they are left out of the id, so the ids of earlier runs (and ``--resume``
 #: of their sweeps) stay valid.
-LATER_FIELDS: dict[str, Any] = {"complete_when": "team"}
+LATER_FIELDS: dict[str, Any] = {"complete_when": "team", "start_delay": 0}
 
 
 def scenario_id(scenario: Scenario) -> str:

@@ -231,6 +231,15 @@ class Simulation:
         self.failures: dict[int, list[int]] = {}
         for robot_id, fail_tick in scenario.fail:
             self.failures.setdefault(fail_tick, []).append(robot_id)
+        self.failed: set[int] = set()
+        # Robots that start later (``start_delay``) stand dormant until their tick.
+        self.wakes: dict[int, list[int]] = {}
+        if scenario.start_delay > 0:
+            first = self.streams.start_times.integers(0, scenario.start_delay + 1, n)
+            for robot, tick in zip(self.robots, first - first.min(), strict=True):
+                if tick > 0:
+                    robot.alive = False
+                    self.wakes.setdefault(int(tick), []).append(robot.id)
         self.sharing_id = scenario.sharing or get_strategy(scenario.strategy).default_sharing
         self.sharing: MapSharing = make_sharing(self.sharing_id, **scenario.sharing_params)
         self.sharing.bind(n, shape)
@@ -319,16 +328,21 @@ class Simulation:
         return frozenset(r.id for r in self.robots if r.alive)
 
     def _fail(self, tick: int) -> None:
-        """Robots failing at ``tick`` stop moving, sensing and communicating.
+        """Robots starting at ``tick`` wake up; robots failing at it stop moving, sensing
+        and communicating.
 
-        A failed robot stays where it is, an obstacle for the others.
+        A failed robot stays where it is, an obstacle for the others; a dormant robot
+        that fails never wakes.
         """
         failing = set(self.failures.get(tick, []))
         rate = self.scenario.failure_rate
         if rate > 0:
             draws = self.streams.failures.random(len(self.robots))
             failing |= {r.id for r in self.robots if r.alive and draws[r.id] < rate}
+        for robot_id in sorted(self.wakes.pop(tick, [])):
+            self.robots[robot_id].alive = robot_id not in self.failed | failing
         for robot_id in sorted(failing):
+            self.failed.add(robot_id)
             robot = self.robots[robot_id]
             if robot.alive:
                 robot.alive = False
@@ -700,9 +714,9 @@ class Simulation:
             self._last_known, self._last_progress_tick = progress, tick
         elif tick - self._last_progress_tick >= self.stall_ticks:
             return "stalled"
-        if not any(r.alive for r in self.robots):
+        if not any(r.alive for r in self.robots) and not self.wakes:
             return "stalled"  # nobody left to explore
-        all_idle = all(r.path is None for r in self.robots if r.alive)
+        all_idle = not self.wakes and all(r.path is None for r in self.robots if r.alive)
         idle = all_idle and self.comm.in_flight() == 0
         self._idle_streak = self._idle_streak + 1 if idle else 0
         if self._idle_streak >= self.scenario.idle_ticks:

@@ -287,6 +287,9 @@ class RunRecord:
                 "starts": [list(s) for s in self.world.starts],
             }
         )
+        if self.scenario.start_delay > 0:  # each robot's first live tick (None: never)
+            awake = np.asarray(self.alive, dtype=bool)
+            out["start_ticks"] = [int(np.argmax(c)) if c.any() else None for c in awake.T]
         out.update(summarize(self.trace_arrays()))
         out.update(
             {

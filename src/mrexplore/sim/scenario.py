@@ -54,6 +54,10 @@ class Scenario:
             speed (at least 1000), enough for every baseline on every bundled map.
         start: ``"together"`` (default: adjacent cells in the largest free region),
             ``"separate"`` (random cells of that region) or a list of ``(row, col)``.
+        start_delay: robots start at different ticks: each robot's first tick is drawn
+            uniformly from ``0..start_delay`` (the seed's ``start_times`` stream), the
+            earliest moved to tick 0; until then a robot does nothing (no sensing,
+            decisions or radio) but stands on its cell. 0 (default): all at tick 0.
         sensing: ``"moving"`` (sense every tick) or ``"arrival"`` (only when not
             travelling, Sheng et al. §2.1).
         comm_range: communication range in cells (or ``"20m"``); ``inf`` = unlimited. A
@@ -91,6 +95,7 @@ class Scenario:
     seed: int = 0
     max_ticks: int | None = None
     start: str | list[Cell] = "together"
+    start_delay: int = 0
     sensing: str = "moving"
     comm_range: float | str = math.inf
     comm_los: bool = False
@@ -148,6 +153,10 @@ class Scenario:
             raise ScenarioError(
                 f"--complete-when {self.complete_when}: choose team (the team's union of "
                 "beliefs reaches the coverage threshold) or robot (one robot holds the whole map)"
+            )
+        if not (_is_int(self.start_delay) and self.start_delay >= 0):
+            raise ScenarioError(
+                f"--start-delay {self.start_delay}: must be a whole number of ticks >= 0"
             )
         if self.sensing not in SENSING_MODES:
             raise ScenarioError(f"--sensing {self.sensing}: choose one of {SENSING_MODES}")
