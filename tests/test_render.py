@@ -93,7 +93,7 @@ def test_experiment_builds_its_sweep() -> None:
     experiment = render.Experiment(
         "e", {"map": "office", "size": "30x30", "strategy": "kme"}, {"robots": [2, 3]}, (4, 5), 10
     )
-    sweeps = render.sweeps_of("paper", [experiment])
+    sweeps = render.sweeps_for("paper", lambda quick: [experiment])(False)
     assert list(sweeps) == ["e"]
     runs = sweeps["e"].runs()
     assert len(runs) == 4 and sweeps["e"].curves_every == 10

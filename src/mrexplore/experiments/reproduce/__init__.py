@@ -1,8 +1,5 @@
-"""One-command reproductions of the papers' experiments (DESIGN §9).
-
-``mrexplore reproduce ID --out DIR [--quick]``; ids are listed in
-:data:`REPRODUCTIONS`. Each module documents its settings and every choice made
-where the paper is silent.
+"""One-command reproductions of the papers' experiments (DESIGN §9):
+``mrexplore reproduce ID --out DIR [--quick]``, ids in :data:`MODULES`.
 """
 
 from __future__ import annotations
@@ -26,8 +23,7 @@ def get_reproduction(paper_id: str) -> Reproduction:
     """The reproduction of a paper by id (its module defines ``REPRODUCTION``)."""
     if paper_id not in MODULES:
         raise UnknownIdError("reproduction", paper_id, list(MODULES))
-    module = importlib.import_module(MODULES[paper_id])
-    reproduction: Reproduction = module.REPRODUCTION
+    reproduction: Reproduction = importlib.import_module(MODULES[paper_id]).REPRODUCTION
     return reproduction
 
 

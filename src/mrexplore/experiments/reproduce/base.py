@@ -1,12 +1,7 @@
-"""What every paper reproduction is made of.
-
-A :class:`Reproduction` names its experiments as sweeps (built from plain dicts
-with :func:`~mrexplore.experiments.sweep.sweep_from_dict`, at the paper's settings
-or at a reduced ``quick`` size) and a report function that reads their results
-stores and writes ``report.md``: the paper's numbers (typed in from the paper,
-with the figure or table they come from) beside ours, the plots, and one verdict
-line per claim. :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
-(resumably: running it again completes what is missing) and writes the report.
+"""What every paper reproduction is made of: a :class:`Reproduction` names its sweeps (at
+the paper's settings or a reduced ``quick`` size) and a report function that writes
+``report.md`` from their stores; :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
+(resumably) and writes the report.
 """
 
 from __future__ import annotations
@@ -48,10 +43,8 @@ class Reproduction:
 
 
 def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Interpretation]:
-    """``all``, ``none`` or comma-separated names of ``reproduction``'s interpretations.
-
-    Raises :class:`~mrexplore.errors.MrexploreInputError` for an unknown name.
-    """
+    """``all``, ``none`` or comma-separated names of ``reproduction``'s interpretations
+    (:class:`~mrexplore.errors.MrexploreInputError` for an unknown name)."""
     from mrexplore.errors import MrexploreInputError
 
     if chosen == "all":
@@ -71,13 +64,9 @@ def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Inte
 
 
 def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
-    """``sweep`` under ``interpretation``, or ``None`` when it changes none of its runs.
-
-    Its ``set`` overrides go into the fixed strategy parameters and its ``scenario``
-    overrides into the fixed settings (each replacing a grid axis of the same name). A
-    sweep whose strategies the interpretation only partly applies to is an error of the
-    reproduction's declaration.
-    """
+    """``sweep`` under ``interpretation`` (its overrides fixed, replacing grid axes of the
+    same name), or ``None`` when it changes none of its runs; an error when it applies to
+    some of the sweep's strategies only."""
     fixed_strategy = sweep.fixed.get("strategy")
     strategies = [fixed_strategy] if fixed_strategy else list(sweep.grid.get("strategy", []))
     hit = [s for s in strategies if interpretation.applies_to(str(s))]
@@ -110,12 +99,9 @@ def reproduce(
     progress: bool = True,
     interpretations: str = "all",
 ) -> Path:
-    """Run every experiment of ``reproduction`` into ``out`` and write its report.
-
-    Each selected interpretation (:func:`select_interpretations`) re-runs the
-    experiments it changes into ``out/readings/<name>/<experiment>``; the claims are
-    judged under every reading and the report ends with the robustness section.
-    """
+    """Run every experiment of ``reproduction`` into ``out`` and write its report; each
+    selected interpretation re-runs the experiments it changes into
+    ``out/readings/<name>/<experiment>``, and the report ends with the robustness section."""
     out = Path(out)
     chosen = select_interpretations(reproduction, interpretations)
     out.mkdir(parents=True, exist_ok=True)
