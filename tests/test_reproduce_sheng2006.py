@@ -188,6 +188,7 @@ def test_case_of() -> None:
     assert repro.case_of({"strategy": "random-frontier"}) == repro.CASE_RANDOM
     assert repro.case_of({"strategy": "sheng-bidding", "param_w3": 0.0}) == repro.CASE_WITHOUT
     assert repro.case_of({"strategy": "sheng-bidding", "param_w3": math.nan}) == repro.CASE_WITH
+    assert repro.case_of({"strategy": "sheng-bidding"}) == repro.CASE_WITH  # w3 not set
 
 
 # --------------------------------------------------------------------- full

@@ -11,11 +11,8 @@ from mrexplore.experiments.reproduce.base import Reproduction, reproduce
 from mrexplore.experiments.reproduce.claims import Verdict
 
 MODULES = {
-    "sheng2006": "mrexplore.experiments.reproduce.sheng2006",
-    "vazquez2005": "mrexplore.experiments.reproduce.vazquez2005",
-    "wu2011": "mrexplore.experiments.reproduce.wu2011",
-    "market2018": "mrexplore.experiments.reproduce.market2018",
-    "meier2006": "mrexplore.experiments.reproduce.meier2006",
+    paper: f"mrexplore.experiments.reproduce.{paper}"
+    for paper in ("sheng2006", "vazquez2005", "wu2011", "market2018", "meier2006")
 }
 
 
