@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -57,6 +58,13 @@ def test_tabulate_reads_metric_functions_by_cell_arm_and_seed() -> None:
     assert render.bytes_by_type(_rows()[0]) == {"bid": 5.0, "map": 100.0}
     skipped = render.tabulate(_rows(), {"t": render.column("ticks")}, lambda r: None, str)
     assert skipped == {"t": {}}
+
+
+def test_text_rows_and_the_values_of_missing_columns() -> None:
+    assert render.text_rows("a | b\n  c | d\ne | f") == [["a", "b c", "d"], ["e", "f"]]
+    rows = ({"a": 3}, {"a": None}, {"a": math.nan}, {})
+    assert [render.number(row, "a") for row in rows] == [3.0, 0.0, 0.0, 0.0]
+    assert render.measured("a")(rows[0]) == 3.0 and math.isnan(render.measured("a")(rows[1]))
 
 
 def test_arm_table_renders_every_cell_with_flags() -> None:

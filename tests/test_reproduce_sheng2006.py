@@ -191,6 +191,11 @@ def test_case_of() -> None:
     assert repro.case_of({"strategy": "sheng-bidding"}) == repro.CASE_WITH  # w3 not set
 
 
+def test_same_run_counts_cells_at_five_or_one_byte() -> None:
+    row = {"sync_bytes_with_tracking": 57, "sync_cells_with_tracking": 10}
+    assert (repro.same_run("with")(row), repro.same_run("with", 1)(row)) == (57.0, 17.0)
+
+
 # --------------------------------------------------------------------- full
 
 

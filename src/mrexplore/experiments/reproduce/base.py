@@ -105,29 +105,26 @@ def reproduce(
     out = Path(out)
     chosen = select_interpretations(reproduction, interpretations)
     out.mkdir(parents=True, exist_ok=True)
-    stores: dict[str, Store] = {}
     readings: dict[str, dict[str, Store]] = {}
     sweeps = reproduction.sweeps(quick)
     with make_engine(engine, workers, address) as runner:  # one pool for every sweep
-        for name, sweep in sweeps.items():
-            folder = out / name
+
+        def run(sweep: Sweep, folder: Path) -> Store:
             run_sweep(sweep, folder, engine=runner, resume=True, progress=progress)
-            stores[name] = Store(folder)
+            return Store(folder)
+
+        stores = {name: run(sweep, out / name) for name, sweep in sweeps.items()}
         for interpretation in chosen:
             reading = readings.setdefault(interpretation.name, dict(stores))
             for name, sweep in sweeps.items():
-                changed = interpret(sweep, interpretation)
-                if changed is None:
-                    continue
-                folder = out / "readings" / interpretation.name / name
-                run_sweep(changed, folder, engine=runner, resume=True, progress=progress)
-                reading[name] = Store(folder)
+                if (changed := interpret(sweep, interpretation)) is not None:
+                    reading[name] = run(changed, out / "readings" / interpretation.name / name)
     path = reproduction.report(stores, out, quick)
     if reproduction.claims and reproduction.tables is not None:
         from mrexplore.experiments.reproduce.claims import robustness_section
 
-        tables = {"default": reproduction.tables(stores, quick)}
-        tables.update({n: reproduction.tables(s, quick) for n, s in readings.items()})
+        every = {"default": stores, **readings}
+        tables = {n: reproduction.tables(s, quick) for n, s in every.items()}
         section = robustness_section(reproduction.claims, tables, reproduction.interpretations)
         path.write_text(path.read_text().rstrip("\n") + "\n\n" + "\n".join(section))
     return path

@@ -196,7 +196,6 @@ _ARRIVAL = (
     '§III.B "at the moment when the mobile robot reach the goal, mission is over and a '
     'weight calculation request is sent to the others"'
 )
-#: ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings(f"""
 baseline-replans-on-arrival | {_ARRIVAL}, as the rule of the centralised baseline too | the
   centralised baseline also re-plans on arrival only (`burgard`

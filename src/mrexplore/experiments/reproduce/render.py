@@ -57,11 +57,7 @@ def sweeps_for(
 
 
 def text_rows(text: str) -> list[list[str]]:
-    """The rows of an ``a | b | c`` text table; an indented line continues its row.
-
-    >>> text_rows("a | b\\n  c | d\\ne | f")
-    [['a', 'b c', 'd'], ['e', 'f']]
-    """
+    """The rows of an ``a | b | c`` text table; an indented line continues its row."""
     return [row.split(" | ") for row in text.replace("\n  ", " ").strip().splitlines()]
 
 
@@ -91,11 +87,7 @@ def _json_or_text(value: str) -> Any:
 
 
 def number(row: Row, key: str) -> float:
-    """``row[key]`` as a float; ``0.0`` when missing or NaN (a count that never happened).
-
-    >>> number({"a": 3}, "a"), number({"a": None}, "a"), number({}, "a")
-    (3.0, 0.0, 0.0)
-    """
+    """``row[key]`` as a float; ``0.0`` when missing or NaN (a count that never happened)."""
     value = row.get(key)
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return 0.0
@@ -108,11 +100,7 @@ def column(key: str) -> Metric:
 
 
 def measured(key: str) -> Metric:
-    """A column, nan where a run has none (a time never reached): missing, not 0.
-
-    >>> measured("T100")({"T100": 7}), measured("T100")({"T100": None})
-    (7.0, nan)
-    """
+    """A column, nan where a run has none (a time never reached): missing, not 0."""
     return lambda row: math.nan if row.get(key) is None else float(row[key])
 
 
@@ -131,8 +119,7 @@ def bytes_by_type(row: Row) -> dict[str, float]:
 
 
 def time_to(key: str) -> Metric:
-    """A time metric (``T99``, ...) or, for a run that never reached it, the run's
-    length (a lower bound); :func:`reached` tells which."""
+    """A time metric (``T99``, ...), or the run's length (a lower bound) where never reached."""
     return lambda row: float(row[key]) if row.get(key) is not None else float(row["ticks"])
 
 

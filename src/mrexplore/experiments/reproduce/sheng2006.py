@@ -106,13 +106,7 @@ BOTH: dict[str, Metric] = {
 
 
 def same_run(kind: str, cell_bytes: int = CELL_UPDATE_BYTES) -> Metric:
-    """A `sheng-sync` run's volume ``kind`` (``with`` / ``without`` tracking), a cell
-    counted as ``cell_bytes``.
-
-    >>> row = {"sync_bytes_with_tracking": 57, "sync_cells_with_tracking": 10}
-    >>> same_run("with")(row), same_run("with", 1)(row)
-    (57.0, 17.0)
-    """
+    """A `sheng-sync` run's volume ``kind`` (with or without tracking), cells at ``cell_bytes``."""
     volume, cells = (f"sync_{what}_{kind}_tracking" for what in ("bytes", "cells"))
     return lambda row: number(row, volume) - (CELL_UPDATE_BYTES - cell_bytes) * number(row, cells)
 
@@ -239,7 +233,6 @@ CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 _EQ2 = (
     '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three measures"'
 )
-#: ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings(f"""
 both-replan-when-explored | §3.3 "The winning robot then moves to its target frontier cell" and
   §5 case (1) "all the robots randomly pick frontier cells as next targets" | a robot stops and

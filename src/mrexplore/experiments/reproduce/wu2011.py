@@ -223,7 +223,6 @@ CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 #: `nearest-frontier` and `burgard` then re-plan (`replan_on_target_explored`, default;
 #: the paper names no trigger of the baselines); `zlot-market` drops an explored goal.
 _STEP_11 = '§IV.D step 11 "Robots move to their targets until one robot arrives at its target"'
-#: ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings(f"""
 kme-replans-on-arrival | {_STEP_11}, as KME's only trigger | `kme` re-plans only when a robot
   arrives (or is blocked or has no goal), `replan_on_target_explored=false`; the baselines keep
