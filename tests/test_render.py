@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -59,6 +60,13 @@ def test_tabulate_reads_metric_functions_by_cell_arm_and_seed() -> None:
     assert skipped == {"t": {}}
 
 
+def test_text_rows_and_the_values_of_missing_columns() -> None:
+    assert render.text_rows("a | b\n  c | d\ne | f") == [["a", "b c", "d"], ["e", "f"]]
+    rows = ({"a": 3}, {"a": None}, {"a": math.nan}, {})
+    assert [render.number(row, "a") for row in rows] == [3.0, 0.0, 0.0, 0.0]
+    assert render.measured("a")(rows[0]) == 3.0 and math.isnan(render.measured("a")(rows[1]))
+
+
 def test_arm_table_renders_every_cell_with_flags() -> None:
     values = _values()["time"]
     lines = render.arm_table(
@@ -93,7 +101,7 @@ def test_experiment_builds_its_sweep() -> None:
     experiment = render.Experiment(
         "e", {"map": "office", "size": "30x30", "strategy": "kme"}, {"robots": [2, 3]}, (4, 5), 10
     )
-    sweeps = render.sweeps_of("paper", [experiment])
+    sweeps = render.sweeps_for("paper", lambda quick: [experiment])(False)
     assert list(sweeps) == ["e"]
     runs = sweeps["e"].runs()
     assert len(runs) == 4 and sweeps["e"].curves_every == 10

@@ -182,6 +182,7 @@ def test_map_settings_convert_metres() -> None:
     assert settings["intel"]["sensor_range"] == "3m"
     assert settings["office"]["sensor_range"] == pytest.approx(15.0)
     assert list(repro.map_settings(True)) == ["intel", "house", "office"]
+    assert repro.map_settings(True)["office"]["size"] == "80x56"
 
 
 # ------------------------------------------------------------------ full run

@@ -188,6 +188,12 @@ def test_case_of() -> None:
     assert repro.case_of({"strategy": "random-frontier"}) == repro.CASE_RANDOM
     assert repro.case_of({"strategy": "sheng-bidding", "param_w3": 0.0}) == repro.CASE_WITHOUT
     assert repro.case_of({"strategy": "sheng-bidding", "param_w3": math.nan}) == repro.CASE_WITH
+    assert repro.case_of({"strategy": "sheng-bidding"}) == repro.CASE_WITH  # w3 not set
+
+
+def test_same_run_counts_cells_at_five_or_one_byte() -> None:
+    row = {"sync_bytes_with_tracking": 57, "sync_cells_with_tracking": 10}
+    assert (repro.same_run("with")(row), repro.same_run("with", 1)(row)) == (57.0, 17.0)
 
 
 # --------------------------------------------------------------------- full

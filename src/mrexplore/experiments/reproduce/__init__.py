@@ -1,8 +1,5 @@
-"""One-command reproductions of the papers' experiments (DESIGN §9).
-
-``mrexplore reproduce ID --out DIR [--quick]``; ids are listed in
-:data:`REPRODUCTIONS`. Each module documents its settings and every choice made
-where the paper is silent.
+"""One-command reproductions of the papers' experiments (DESIGN §9):
+``mrexplore reproduce ID --out DIR [--quick]``, ids in :data:`MODULES`.
 """
 
 from __future__ import annotations
@@ -14,11 +11,8 @@ from mrexplore.experiments.reproduce.base import Reproduction, reproduce
 from mrexplore.experiments.reproduce.claims import Verdict
 
 MODULES = {
-    "sheng2006": "mrexplore.experiments.reproduce.sheng2006",
-    "vazquez2005": "mrexplore.experiments.reproduce.vazquez2005",
-    "wu2011": "mrexplore.experiments.reproduce.wu2011",
-    "market2018": "mrexplore.experiments.reproduce.market2018",
-    "meier2006": "mrexplore.experiments.reproduce.meier2006",
+    paper: f"mrexplore.experiments.reproduce.{paper}"
+    for paper in ("sheng2006", "vazquez2005", "wu2011", "market2018", "meier2006")
 }
 
 
@@ -26,8 +20,7 @@ def get_reproduction(paper_id: str) -> Reproduction:
     """The reproduction of a paper by id (its module defines ``REPRODUCTION``)."""
     if paper_id not in MODULES:
         raise UnknownIdError("reproduction", paper_id, list(MODULES))
-    module = importlib.import_module(MODULES[paper_id])
-    reproduction: Reproduction = module.REPRODUCTION
+    reproduction: Reproduction = importlib.import_module(MODULES[paper_id]).REPRODUCTION
     return reproduction
 
 

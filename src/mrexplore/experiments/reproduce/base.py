@@ -1,12 +1,7 @@
-"""What every paper reproduction is made of.
-
-A :class:`Reproduction` names its experiments as sweeps (built from plain dicts
-with :func:`~mrexplore.experiments.sweep.sweep_from_dict`, at the paper's settings
-or at a reduced ``quick`` size) and a report function that reads their results
-stores and writes ``report.md``: the paper's numbers (typed in from the paper,
-with the figure or table they come from) beside ours, the plots, and one verdict
-line per claim. :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
-(resumably: running it again completes what is missing) and writes the report.
+"""What every paper reproduction is made of: a :class:`Reproduction` names its sweeps (at
+the paper's settings or a reduced ``quick`` size) and a report function that writes
+``report.md`` from their stores; :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
+(resumably) and writes the report.
 """
 
 from __future__ import annotations
@@ -48,10 +43,8 @@ class Reproduction:
 
 
 def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Interpretation]:
-    """``all``, ``none`` or comma-separated names of ``reproduction``'s interpretations.
-
-    Raises :class:`~mrexplore.errors.MrexploreInputError` for an unknown name.
-    """
+    """``all``, ``none`` or comma-separated names of ``reproduction``'s interpretations
+    (:class:`~mrexplore.errors.MrexploreInputError` for an unknown name)."""
     from mrexplore.errors import MrexploreInputError
 
     if chosen == "all":
@@ -71,13 +64,9 @@ def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Inte
 
 
 def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
-    """``sweep`` under ``interpretation``, or ``None`` when it changes none of its runs.
-
-    Its ``set`` overrides go into the fixed strategy parameters and its ``scenario``
-    overrides into the fixed settings (each replacing a grid axis of the same name). A
-    sweep whose strategies the interpretation only partly applies to is an error of the
-    reproduction's declaration.
-    """
+    """``sweep`` under ``interpretation`` (its overrides fixed, replacing grid axes of the
+    same name), or ``None`` when it changes none of its runs; an error when it applies to
+    some of the sweep's strategies only."""
     fixed_strategy = sweep.fixed.get("strategy")
     strategies = [fixed_strategy] if fixed_strategy else list(sweep.grid.get("strategy", []))
     hit = [s for s in strategies if interpretation.applies_to(str(s))]
@@ -110,38 +99,32 @@ def reproduce(
     progress: bool = True,
     interpretations: str = "all",
 ) -> Path:
-    """Run every experiment of ``reproduction`` into ``out`` and write its report.
-
-    Each selected interpretation (:func:`select_interpretations`) re-runs the
-    experiments it changes into ``out/readings/<name>/<experiment>``; the claims are
-    judged under every reading and the report ends with the robustness section.
-    """
+    """Run every experiment of ``reproduction`` into ``out`` and write its report; each
+    selected interpretation re-runs the experiments it changes into
+    ``out/readings/<name>/<experiment>``, and the report ends with the robustness section."""
     out = Path(out)
     chosen = select_interpretations(reproduction, interpretations)
     out.mkdir(parents=True, exist_ok=True)
-    stores: dict[str, Store] = {}
     readings: dict[str, dict[str, Store]] = {}
     sweeps = reproduction.sweeps(quick)
     with make_engine(engine, workers, address) as runner:  # one pool for every sweep
-        for name, sweep in sweeps.items():
-            folder = out / name
+
+        def run(sweep: Sweep, folder: Path) -> Store:
             run_sweep(sweep, folder, engine=runner, resume=True, progress=progress)
-            stores[name] = Store(folder)
+            return Store(folder)
+
+        stores = {name: run(sweep, out / name) for name, sweep in sweeps.items()}
         for interpretation in chosen:
             reading = readings.setdefault(interpretation.name, dict(stores))
             for name, sweep in sweeps.items():
-                changed = interpret(sweep, interpretation)
-                if changed is None:
-                    continue
-                folder = out / "readings" / interpretation.name / name
-                run_sweep(changed, folder, engine=runner, resume=True, progress=progress)
-                reading[name] = Store(folder)
+                if (changed := interpret(sweep, interpretation)) is not None:
+                    reading[name] = run(changed, out / "readings" / interpretation.name / name)
     path = reproduction.report(stores, out, quick)
     if reproduction.claims and reproduction.tables is not None:
         from mrexplore.experiments.reproduce.claims import robustness_section
 
-        tables = {"default": reproduction.tables(stores, quick)}
-        tables.update({n: reproduction.tables(s, quick) for n, s in readings.items()})
+        every = {"default": stores, **readings}
+        tables = {n: reproduction.tables(s, quick) for n, s in every.items()}
         section = robustness_section(reproduction.claims, tables, reproduction.interpretations)
         path.write_text(path.read_text().rstrip("\n") + "\n\n" + "\n".join(section))
     return path

@@ -1,15 +1,8 @@
-"""Reproduction of the decentralised market paper (§IV): market-occupancy vs a
-centralised market (``burgard``, the paper's [3]), with and without event-based
-communication, with and without the frontier occupancy.
-
-§IV: the strategy was "compared with coordinated centralized market model described
-in [3] ... in the different indoor environments (Fig. 9) with the number of robots
-from one to three", in ROS simulation. Our copy of §IV has no numbers and no figure;
-the claims come from the abstract and §I-III (``PAPER_*``). We run three indoor maps
-(the catalogue's ``intel`` and ``aws-small-house`` at 0.2 m per cell with a 3 m
-sensor, and the ``office`` generator), 1-3 robots, 10 seeds, one experiment per map
-and arm (:data:`ARM_LABELS`). ``--quick``: the office smaller, 2 seeds (the RRT arm
-1), 2 and 3 robots.
+"""Reproduction of the decentralised market paper (§IV): market-occupancy vs a centralised
+market (``burgard``, the paper's [3]), with and without event-based communication and the
+frontier occupancy, on three indoor maps (:data:`MAPS`), 1-3 robots, one experiment per map and
+arm (:data:`ARM_LABELS`). Our copy of §IV has no numbers and no figure: the claims come from
+the abstract and §I-III (``PAPER_*``).
 """
 
 from __future__ import annotations
@@ -71,11 +64,7 @@ MAP_LABELS = {key: label for key, _, label, _ in MAPS}
 
 
 def map_settings(quick: bool) -> dict[str, dict[str, Any]]:
-    """``map key -> scenario settings``, in the order of :data:`MAPS`.
-
-    >>> map_settings(True)["office"]["size"], map_settings(False)["intel"]["sensor_range"]
-    ('80x56', '3m')
-    """
+    """``map key -> scenario settings``, in the order of :data:`MAPS`."""
     real = {"cell_size": CELL_SIZE_M, "sensor_range": f"{SENSOR_RANGE_M:g}m", "max_ticks": 10000}
     size, ticks = ("80x56", 3000) if quick else ("120x80", 10000)
     office = {"size": size, "map_seed": 1, "sensor_range": SENSOR_RANGE_CELLS, "max_ticks": ticks}
@@ -103,18 +92,7 @@ ARM_COLOURS = dict(zip(ARMS, _PALETTE, strict=True))
 
 
 def arm_of(row: Mapping[str, Any]) -> str:
-    """The arm of a run from its strategy and parameter columns.
-
-    >>> arm_of({"strategy": "burgard"})
-    'centralised'
-    >>> arm_of({"strategy": "market-occupancy", "param_event_based": False,
-    ...         "param_replan_every": 30})
-    'timer-30'
-    >>> arm_of({"strategy": "market-occupancy", "param_lambda_f": 1e-9})
-    'no-occupancy'
-    >>> arm_of({"strategy": "market-occupancy", "param_frontier_detector": "rrt"})
-    'rrt'
-    """
+    """The arm of a run from its strategy and parameter columns."""
     if row.get("strategy") == "burgard":
         return CENTRALISED
     if row.get("param_frontier_detector") == "rrt":
@@ -134,13 +112,6 @@ MAP_TYPES = tuple(
 )
 #: The negotiation of Algorithm 1: the request with the frontier list and the rows.
 NEGOTIATION_TYPES = (WEIGHT_REQUEST, WEIGHTS)
-
-
-def coordination_bytes(row: Row) -> float:
-    """Bytes of every message type but map sharing."""
-    return sum(b for t, b in bytes_by_type(row).items() if t not in MAP_TYPES)
-
-
 #: The numbers of a run the report and the claims read. ``time`` is T99, or the run's
 #: length if it never reached 99% (a lower bound; ``reached`` says which).
 METRICS: dict[str, Metric] = {
@@ -148,31 +119,24 @@ METRICS: dict[str, Metric] = {
     "reached": render.reached("T99"),
     "negotiation_bytes": render.bytes_of(NEGOTIATION_TYPES),
     "negotiation_messages": render.bytes_of(NEGOTIATION_TYPES, "messages"),
-    "coordination_bytes": coordination_bytes,
+    "coordination_bytes": lambda r: sum(
+        b for t, b in bytes_by_type(r).items() if t not in MAP_TYPES
+    ),
     "bytes_total": render.column("bytes_total"),
     "diameter": render.column("group_diameter_mean"),
 }
 
 
 def map_key(row: Row) -> str:
-    """The map of a run, from its experiment's name (``<map>-<arm>``).
-
-    >>> map_key({"experiment": "house-timer"})
-    'house'
-    """
+    """The map of a run, from its experiment's name (``<map>-<arm>``)."""
     return str(row.get("experiment", "")).split("-")[0]
 
 
 def run_values(rows: Iterable[Row]) -> dict[str, dict[CellKey, Any]]:
     """``metric -> (map, robots) -> arm -> seed -> value``, maps in the report's order."""
     order = {key: i for i, key in enumerate(MAP_LABELS)}
-    return render.tabulate(
-        rows,
-        METRICS,
-        lambda r: (map_key(r), int(r["robots"])),
-        arm_of,
-        lambda c: (order.get(c[0], 99), c[1]),
-    )
+    cell = lambda r: (map_key(r), int(r["robots"]))  # noqa: E731 (a key, as the order)
+    return render.tabulate(rows, METRICS, cell, arm_of, lambda c: (order.get(c[0], 99), c[1]))
 
 
 #: Abstract: "The proposed strategy has been implemented in simulation environment and
@@ -232,7 +196,6 @@ _ARRIVAL = (
     '§III.B "at the moment when the mobile robot reach the goal, mission is over and a '
     'weight calculation request is sent to the others"'
 )
-#: ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings(f"""
 baseline-replans-on-arrival | {_ARRIVAL}, as the rule of the centralised baseline too | the
   centralised baseline also re-plans on arrival only (`burgard`
@@ -322,7 +285,7 @@ communication | fully connected graph | unlimited range, latency 1 tick, no loss
 time | seconds of ROS simulation | ticks: one cell (0.2 m) of path per tick; exploration time =
   T99
 """
-    return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], NOTES)
+    return render.settings_table(rows, NOTES)
 
 
 def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:

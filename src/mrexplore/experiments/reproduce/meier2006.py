@@ -114,11 +114,7 @@ SR, CENTRALISED, EXACT, RAW, RAW_HALF = "SR", "centralised", "no-approximation",
 
 
 def arm_of(row: Row) -> str:
-    """``SR <rate>`` for polygon sharing, else ``centralised`` (burgard) or ``no-approximation``.
-
-    >>> arm_of({"sharing": "polygon", "share_split_rate": 0.1}), arm_of({"strategy": "burgard"})
-    ('SR 0.1', 'centralised')
-    """
+    """``SR <rate>`` for polygon sharing, else ``centralised`` (burgard) or ``no-approximation``."""
     if row.get("sharing") == "polygon":
         return f"{SR} {float(row['share_split_rate']):g}"
     return CENTRALISED if row.get("strategy") == "burgard" else EXACT
@@ -126,11 +122,7 @@ def arm_of(row: Row) -> str:
 
 def package_shares(row: Row) -> dict[str, float]:
     """Share (%) of a run's bytes in each package type of Table 1 and ``other`` (resync
-    requests); nan without traffic.
-
-    >>> package_shares({"bytes_total": 200, "bytes_by_type_TPT": 50})["TPT"]
-    25.0
-    """
+    requests); nan without traffic."""
     total = number(row, "bytes_total")
     if not total > 0:
         return dict.fromkeys((*PACKAGE_TYPES, "other"), math.nan)
@@ -139,22 +131,14 @@ def package_shares(row: Row) -> dict[str, float]:
 
 
 def team_error(text: Any) -> float:
-    """Mean over robots of a per-robot JSON list (``polygon_approximation_error*``), in %.
-
-    >>> team_error("[0.1, 0.3, null]"), team_error(None)
-    (20.0, nan)
-    """
+    """Mean over robots of a per-robot JSON list (``polygon_approximation_error*``), in %."""
     values = [float(v) for v in json.loads(text) if v is not None] if text else []
     return 100 * float(np.mean(values)) if values else math.nan
 
 
 def centralised_raw_bytes(row: Row, beams: int = SCAN_BEAMS) -> float:
     """The centralised approach as the paper runs it: a run's ``status`` and ``assign``
-    messages, and every robot's raw scan at each tick ``0..ticks`` (a broadcast is sent once).
-
-    >>> centralised_raw_bytes({"robots": 2, "ticks": 9, "bytes_by_type_status": 28})
-    14568.0
-    """
+    messages, and every robot's raw scan at each tick ``0..ticks`` (a broadcast is sent once)."""
     scans = int(row["robots"]) * (int(row["ticks"]) + 1) * (HEADER_BYTES + beams * SCAN_BEAM_BYTES)
     return render.bytes_of(("status", "assign"))(row) + scans
 
@@ -317,7 +301,7 @@ baselines | Burgard et al.; theirs with our coordination | `burgard`, `meier-pol
 raw scans (Fig. 7) | each robot sends its sweeps | {SCAN_BYTES} B/robot/tick + `status`, `assign`
 approximation error | against a central map (%) | own cells own polygons get wrong (run mean)
 runs | not given | {seeds} seeds, start `together`, at most {ticks} ticks"""
-    return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], NOTES)
+    return render.settings_table(rows, NOTES)
 
 
 COLOURS = {"polygon": "#17becf", "ours": "#17becf", "paper": "#999999", CENTRALISED: "#1f77b4"}

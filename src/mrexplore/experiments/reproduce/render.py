@@ -1,12 +1,6 @@
-"""What every reproduction report is built from: experiments, per-run values, tables.
-
-A reproduction declares its experiments as :class:`Experiment` objects (a sweep's
-fixed settings, grid and seeds), reads its runs back with :func:`tabulate` (metric
-functions of a run row, grouped ``cell -> arm -> seed``: the
-:data:`~mrexplore.experiments.reproduce.claims.Values` its claims judge), and writes
-``report.md`` from the pieces here: :func:`report_head`, :func:`settings_table`,
-:func:`arm_table` (mean, sd, 95% CI and n per cell and arm), :func:`figure`
-and :func:`write_report`, which ends every report with the claims' verdicts.
+"""What every reproduction report is built from: its :class:`Experiment` objects, per-run
+metrics grouped ``cell -> arm -> seed`` by :func:`tabulate` (the claims' ``Values``), and the
+Markdown pieces of ``report.md``, which :func:`write_report` ends with the claims' verdicts.
 """
 
 from __future__ import annotations
@@ -39,12 +33,7 @@ Metric = Callable[[Row], float]
 
 @dataclass(frozen=True)
 class Experiment:
-    """One sweep of a reproduction: fixed settings, a grid and the seeds.
-
-    >>> e = Experiment("a", {"map": "office", "strategy": "kme"}, {"robots": [2, 4]}, (1, 2))
-    >>> e.sweep("paper").name, len(e.sweep("paper").runs())
-    ('a', 4)
-    """
+    """One sweep of a reproduction: fixed settings, a grid and the seeds."""
 
     name: str
     fixed: Mapping[str, Any]
@@ -60,37 +49,22 @@ class Experiment:
         return sweep_from_dict(data, source=f"{source}:{self.name}")
 
 
-def sweeps_of(source: str, experiments: Iterable[Experiment]) -> dict[str, Sweep]:
-    """``experiment name -> sweep``, in the given order."""
-    return {e.name: e.sweep(source) for e in experiments}
-
-
 def sweeps_for(
     source: str, experiments: Callable[[bool], Iterable[Experiment]]
 ) -> Callable[[bool], dict[str, Sweep]]:
-    """A reproduction's ``sweeps``: ``quick -> experiment name -> sweep``."""
-    return lambda quick: sweeps_of(source, experiments(quick))
+    """A reproduction's ``sweeps``: ``quick -> experiment name -> sweep``, in order."""
+    return lambda quick: {e.name: e.sweep(source) for e in experiments(quick)}
 
 
 def text_rows(text: str) -> list[list[str]]:
-    """The rows of an ``a | b | c`` text table; an indented line continues its row.
-
-    >>> text_rows("a | b\\n  c | d\\ne | f")
-    [['a', 'b c', 'd'], ['e', 'f']]
-    """
+    """The rows of an ``a | b | c`` text table; an indented line continues its row."""
     return [row.split(" | ") for row in text.replace("\n  ", " ").strip().splitlines()]
 
 
 def readings(text: str) -> tuple[Interpretation, ...]:
     """Interpretations from a ``name | sentence | reading | overrides | strategies`` text
-    table (:func:`text_rows`): overrides ``key=value`` separated by spaces, the value JSON
-    or else text, a ``scenario.`` key a scenario setting; strategies separated by commas,
-    ``*`` for every run.
-
-    >>> (one,) = readings("fast | §2 'a moves' | a waits | w=1.5 scenario.sharing=full | a, b")
-    >>> one.set, one.scenario, one.strategies
-    ({'w': 1.5}, {'sharing': 'full'}, ('a', 'b'))
-    """
+    table: overrides ``key=value`` (JSON or text; ``scenario.key`` a scenario setting),
+    strategies separated by commas, ``*`` for every run."""
     out = []
     for name, sentence, reading, overrides, strategies in text_rows(text):
         pairs = [item.split("=", 1) for item in overrides.split()]
@@ -113,11 +87,7 @@ def _json_or_text(value: str) -> Any:
 
 
 def number(row: Row, key: str) -> float:
-    """``row[key]`` as a float; ``0.0`` when missing or NaN (a count that never happened).
-
-    >>> number({"a": 3}, "a"), number({"a": None}, "a"), number({}, "a")
-    (3.0, 0.0, 0.0)
-    """
+    """``row[key]`` as a float; ``0.0`` when missing or NaN (a count that never happened)."""
     value = row.get(key)
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return 0.0
@@ -130,20 +100,12 @@ def column(key: str) -> Metric:
 
 
 def measured(key: str) -> Metric:
-    """A column, nan where a run has none (a time never reached): missing, not 0.
-
-    >>> measured("T100")({"T100": 7}), measured("T100")({"T100": None})
-    (7.0, nan)
-    """
+    """A column, nan where a run has none (a time never reached): missing, not 0."""
     return lambda row: math.nan if row.get(key) is None else float(row[key])
 
 
 def bytes_of(types: Iterable[str], kind: str = "bytes") -> Metric:
-    """Bytes (or ``kind="messages"``) a run sent in messages of ``types``.
-
-    >>> bytes_of(["a", "b"])({"bytes_by_type_a": 3, "bytes_by_type_c": 5})
-    3.0
-    """
+    """Bytes (or ``kind="messages"``) a run sent in messages of ``types``."""
     keys = [f"{kind}_by_type_{t}" for t in types]
     return lambda row: sum(number(row, k) for k in keys)
 
@@ -157,8 +119,7 @@ def bytes_by_type(row: Row) -> dict[str, float]:
 
 
 def time_to(key: str) -> Metric:
-    """A time metric (``T99``, ...) or, for a run that never reached it, the run's
-    length (a lower bound); :func:`reached` tells which."""
+    """A time metric (``T99``, ...), or the run's length (a lower bound) where never reached."""
     return lambda row: float(row[key]) if row.get(key) is not None else float(row["ticks"])
 
 
@@ -198,12 +159,7 @@ def tabulate(
     order: Callable[[CellKey], Any] | None = None,
 ) -> dict[str, dict[CellKey, dict[str, dict[int, float]]]]:
     """``metric -> cell -> arm -> seed -> value``; rows whose ``cell`` is ``None`` are
-    left out; cells in ``order`` (default: first seen).
-
-    >>> rows = [{"robots": 2, "seed": s, "strategy": "a", "x": s} for s in (1, 2)]
-    >>> tabulate(rows, {"x": column("x")}, lambda r: (r["robots"],), lambda r: r["strategy"])
-    {'x': {(2,): {'a': {1: 1.0, 2: 2.0}}}}
-    """
+    left out; cells in ``order`` (default: first seen)."""
     out: dict[str, dict[CellKey, dict[str, dict[int, float]]]] = {m: {} for m in metrics}
     for row in rows:
         key = cell(row)
@@ -235,11 +191,7 @@ def arms_in(values: Values, order: Sequence[str]) -> list[str]:
 
 
 def summary_cell(s: Summary | None, digits: int = 0, flag: str = "") -> str:
-    """``mean (sd; CI low..high; n)``.
-
-    >>> summary_cell(summarize_metric([1.0, 3.0]))
-    '2 (sd 1; CI -11..15; n 2)'
-    """
+    """``mean (sd; CI low..high; n)``."""
     if s is None or s.n == 0:
         return "-"
     interval = f"{fmt(s.ci_low, digits)}..{fmt(s.ci_high, digits)}"
@@ -248,11 +200,7 @@ def summary_cell(s: Summary | None, digits: int = 0, flag: str = "") -> str:
 
 def blocks(*parts: str | Sequence[str]) -> Lines:
     """Markdown blocks, a blank line after each: a string is a paragraph or a heading, a
-    list the lines of one block (a table, a figure's link).
-
-    >>> blocks("## A", ["| x |", "|---|"], [])
-    ['## A', '', '| x |', '|---|', '']
-    """
+    list the lines of one block (a table, a figure's link)."""
     out: Lines = []
     for part in parts:
         lines = [part] if isinstance(part, str) else list(part)
@@ -285,8 +233,10 @@ def arm_table(
     return table([*cell_columns, *(f"`{a}`" for a in shown)], rows)
 
 
-def settings_table(rows: Iterable[tuple[str, str, str]], notes: Sequence[str] = ()) -> Lines:
-    """The settings section: the paper's beside ours, then our choices where it is silent."""
+def settings_table(rows: str | Iterable[Sequence[str]], notes: Sequence[str] = ()) -> Lines:
+    """The settings section (``rows``: ``setting | paper | ours``, or a :func:`text_rows`
+    text), then our choices where the paper is silent."""
+    rows = text_rows(rows) if isinstance(rows, str) else rows
     lines = ["## Settings", "", *table(["setting", "paper", "ours"], rows), ""]
     if notes:
         lines += ["Choices where the paper is silent or our world differs:", ""]

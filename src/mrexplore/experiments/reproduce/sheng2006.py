@@ -87,11 +87,7 @@ ARMS = (*CASES, *SAME_RUN, WITHOUT, WITH, PARTITIONS, MERGES, PER_MERGE, BROADCA
 
 
 def case_of(row: Row) -> str:
-    """The paper's case of a run; ``w3`` not set is the strategy's default, 1.5.
-
-    >>> case_of({"strategy": "random-frontier"}), case_of({"strategy": "sheng-bidding"})
-    ('random', 'bidding w3=1.5')
-    """
+    """The paper's case of a run; ``w3`` not set is the strategy's default, 1.5."""
     if row["strategy"] == "random-frontier":
         return CASE_RANDOM
     w3 = row.get("param_w3")
@@ -99,12 +95,7 @@ def case_of(row: Row) -> str:
 
 
 def sync_bytes(row: Row) -> float:
-    """Table 4's bytes of one run: the :data:`SYNC_TYPES` of its sharing mechanism.
-
-    >>> sync_bytes({"sharing": "full", "bytes_by_type_map_full": 100,
-    ...             "bytes_by_type_map_multicast": 50, "bytes_by_type_map_update": 9})
-    150.0
-    """
+    """Table 4's bytes of one run: the :data:`SYNC_TYPES` of its sharing mechanism."""
     return render.bytes_of(SYNC_TYPES[row["sharing"]])(row)  # KeyError: not a Table 4 run
 
 
@@ -115,13 +106,7 @@ BOTH: dict[str, Metric] = {
 
 
 def same_run(kind: str, cell_bytes: int = CELL_UPDATE_BYTES) -> Metric:
-    """A `sheng-sync` run's own volume ``kind`` (``with`` / ``without`` tracking), its
-    cells counted at ``cell_bytes`` each.
-
-    >>> row = {"sync_bytes_with_tracking": 57, "sync_cells_with_tracking": 10}
-    >>> same_run("with")(row), same_run("with", 1)(row)
-    (57.0, 17.0)
-    """
+    """A `sheng-sync` run's volume ``kind`` (with or without tracking), cells at ``cell_bytes``."""
     volume, cells = (f"sync_{what}_{kind}_tracking" for what in ("bytes", "cells"))
     return lambda row: number(row, volume) - (CELL_UPDATE_BYTES - cell_bytes) * number(row, cells)
 
@@ -142,10 +127,8 @@ TABLE4_METRICS: dict[str, Metric] = {
 
 
 def tables(stores: Mapping[str, Store], quick: bool) -> dict[str, Values]:
-    """``table -> cell -> arm -> seed -> value``: ``diameter``, ``time``, ``distance``
-    (cells: team sizes) and their ``*_teams`` (2+ robots), ``table4`` (cells ``("w3=0",)``,
-    arms: its columns), ``fig17`` (cells ``(metric, r_c)``), which the claims read, and
-    ``diameter_runs`` (cells: seeds), ``fig17 <metric>``, ``table4 <metric>``."""
+    """``table -> cell -> arm -> seed -> value``: what :data:`RULES`, :data:`FIGURES` and
+    :data:`TABLES` read."""
     rows = render.rows_of(stores)[0]
 
     def of(prefix: str, metrics: Mapping[str, Metric], cell: Any, arm: Any = case_of) -> Any:
@@ -250,7 +233,6 @@ CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 _EQ2 = (
     '§3.2 "The net gain g_i for frontier cell i is the weighted combination of the three measures"'
 )
-#: ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings(f"""
 both-replan-when-explored | §3.3 "The winning robot then moves to its target frontier cell" and
   §5 case (1) "all the robots randomly pick frontier cells as next targets" | a robot stops and
@@ -314,11 +296,11 @@ sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------------------ report
-def _settings(quick: bool) -> list[tuple[str, str, str]]:
+def _settings(quick: bool) -> str:
     seeds = {k: f"{n} seed{'s' * (n > 1)}" for k, n in (QUICK_SEEDS if quick else SEEDS).items()}
     ranges = ", ".join(map(str, QUICK_RANGES if quick else FIG17_RANGES))
     sizes = ", ".join(map(str, QUICK_TEAM_SIZES)) if quick else "1..8"
-    rows = f"""
+    return f"""
 map | 40 x 40, two obstacles (not drawn) | `{MAP}`: obstacles 8 x 12 and 12 x 6
 sensor range r_s | 4 cell units | 4 cells, line of sight
 communication r_c | 16 cell units | 16 cells, multi-hop, through walls
@@ -337,7 +319,6 @@ Figs. 12-13 | 1..8 robots, 6 runs | {sizes} robots, {seeds["fig12_13"]}
 Table 4 | 5 robots, w3 = 0, 1, 2, 20 runs | the same, {seeds["table4"]}
 Fig. 17 | 5 robots, r_c = 4..24, 6 runs | 5 robots, r_c = {ranges}, {seeds["fig17"]}
 error bars | "the deviation" | 95% CI of the mean; the tables give the sd too"""
-    return [(a, b, c) for a, b, c in render.text_rows(rows)]
 
 
 #: The report's sections: heading -> where in the paper its claims stand.

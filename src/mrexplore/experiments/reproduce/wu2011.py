@@ -1,12 +1,9 @@
-"""Reproduction of Wu, Puig and Garcia, §V: balanced exploration (WTV and EPV).
-
-L. Wu, D. Puig, M. A. Garcia, "Balanced multi-robot exploration through a global
-optimization strategy", Journal of Physical Agents 4(1), 2010 (the id ``wu2011`` is
-historical), §V: KME against Yamauchi (``nearest-frontier``), Burgard et al. (``burgard``)
-and Zlot et al. (``zlot-market``) by the waiting-time variance WTV (eqs. 8-10) and the
-exploration-percentage variance EPV of 8 equal regions (:mod:`mrexplore.metrics.regions`).
-Figs. 6-8 are plots without numbers: the text's statements are the :data:`CLAIMS`. One sweep
-per map type and strategy: a re-plan-trigger reading (:data:`INTERPRETATIONS`) takes whole sweeps.
+"""Reproduction of Wu, Puig and Garcia (2010; the id ``wu2011`` is historical), §V: KME
+against Yamauchi (``nearest-frontier``), Burgard et al. (``burgard``) and Zlot et al.
+(``zlot-market``) by the waiting-time variance WTV (eqs. 8-10) and the exploration-percentage
+variance EPV of 8 equal regions. Figs. 6-8 are plots without numbers: the text's statements are
+the :data:`CLAIMS`. One sweep per map type and strategy, so a re-plan-trigger reading
+(:data:`INTERPRETATIONS`) takes whole sweeps.
 """
 
 from __future__ import annotations
@@ -89,13 +86,7 @@ sweeps = render.sweeps_for(ID, experiments)
 def time_mean(ticks: FloatArray, values: FloatArray, horizon: int, every: int) -> float:
     """Mean of a run's curve (``ticks`` increasing) at the ticks ``0, every, 2 every, ...
     <= horizon`` and at ``horizon``, each its last sample at or before the tick (carried
-    past the run's end, none before its first): "the value during the exploration".
-
-    >>> time_mean(np.array([0.0, 10.0, 12.0]), np.array([4.0, 2.0, 1.0]), 25, 10)
-    2.0
-    >>> time_mean(np.array([5.0]), np.array([1.0]), 0, 10)
-    nan
-    """
+    past the run's end, none before its first): "the value during the exploration"."""
     grid = np.arange(0, horizon + 1, every, dtype=np.float64)
     grid = grid if grid[-1] == horizon else np.append(grid, horizon)
     at = np.searchsorted(ticks, grid, side="right") - 1
@@ -232,7 +223,6 @@ CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 #: `nearest-frontier` and `burgard` then re-plan (`replan_on_target_explored`, default;
 #: the paper names no trigger of the baselines); `zlot-market` drops an explored goal.
 _STEP_11 = '§IV.D step 11 "Robots move to their targets until one robot arrives at its target"'
-#: ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings(f"""
 kme-replans-on-arrival | {_STEP_11}, as KME's only trigger | `kme` re-plans only when a robot
   arrives (or is blocked or has no goal), `replan_on_target_explored=false`; the baselines keep
@@ -279,7 +269,7 @@ time; curves | steps; mean of 15 runs | ticks; every {CURVES_EVERY} ticks, 95% C
         "its target stops being a frontier (`replan_on_target_explored`, its default), as do "
         "`nearest-frontier` and `burgard`; the readings of the robustness section differ.",
     )
-    return render.settings_table([(a, b, c) for a, b, c in render.text_rows(rows)], notes)
+    return render.settings_table(rows, notes)
 
 
 #: The report's sections: where in the paper, title, the (map, scheme) of their cells
