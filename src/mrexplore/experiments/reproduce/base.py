@@ -65,8 +65,9 @@ def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Inte
 
 def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
     """``sweep`` under ``interpretation`` (its overrides fixed, replacing grid axes of the
-    same name), or ``None`` when it changes none of its runs; an error when it applies to
-    some of the sweep's strategies only."""
+    same name), or ``None`` when it changes none of its runs (none of its strategies, or
+    every run the same); an error when it applies to some of the sweep's strategies
+    only."""
     fixed_strategy = sweep.fixed.get("strategy")
     strategies = [fixed_strategy] if fixed_strategy else list(sweep.grid.get("strategy", []))
     hit = [s for s in strategies if interpretation.applies_to(str(s))]
@@ -85,7 +86,9 @@ def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
     fixed = {**sweep.fixed, **interpretation.scenario}
     if interpretation.set:
         fixed["set"] = {**sweep.fixed.get("set", {}), **interpretation.set}
-    return replace(sweep, fixed=fixed, grid=grid, name=f"{sweep.name}@{interpretation.name}")
+    changed = replace(sweep, fixed=fixed, grid=grid, name=f"{sweep.name}@{interpretation.name}")
+    same = [r.run_id for r in changed.runs()] == [r.run_id for r in sweep.runs()]
+    return None if same else changed
 
 
 def reproduce(

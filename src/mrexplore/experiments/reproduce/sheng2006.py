@@ -31,6 +31,11 @@ COMM_RANGE = 16  # "the communication range is 16 cell units (r_c = 16)"
 W3_WITHOUT, W3_WITH = 0.0, 1.5  # Figs. 9 and 10 (1.5: also the strategy's default)
 TABLE4_W3 = (0.0, 1.0, 2.0)  # Table 4 cases (i), (ii), (iii)
 SPEED = 0.25  # cells of travel per tick (see FIXED)
+#: Table 4: "by varying the starting time of each robot": each robot starts at a tick
+#: drawn from 0..16, the time to travel the sensor radius (r_s / speed): later, the
+#: first robot would have left the others' sensing disks (no longer a start together);
+#: much less, every start would fall in the first bidding session (2 ticks).
+START_DELAY = round(SENSOR_RANGE / SPEED)
 FIG17_RANGES = (4, 8, 12, 16, 20, 24)  # Fig. 17 (the text says "five values", lists six)
 TEAM_SIZES = tuple(range(1, 9))  # Figs. 12-13: "ranges from 1 to 8"
 SEEDS = {"fig11": 8, "fig12_13": 6, "table4": 20, "fig17": 6}  # the paper's run counts
@@ -256,6 +261,13 @@ negative-window | §3.4 "The relationship between Send-Map-Window, bidding time 
   t_d) as in earlier versions, so T_win = -1 with one hop: no robot ever joins a running
   session (`session_floor=delay`; default `grace`, T_win >= 0) | session_floor=delay |
   sheng-bidding
+same-start-times | §5 "For each case, by varying the starting time of each robot, we run the
+  programs eight times" | Table 4's robots all start at tick 0 and the seed places them (the
+  runs of Figs. 11-13 and 17; default: the same cells in every run, start ticks drawn from
+  0..16) | scenario.start_delay=0 scenario.start=together | sheng-bidding
+varied-places | §5 (Table 4) "by varying the starting time of each robot" | the seed places the
+  robots as well as it draws their start ticks (default: the same cells in every run) |
+  scenario.start=together | sheng-bidding
 nearness-over-known | §2.2 "in Fig. 2, robot 6 has the least nearness measure because its
   distances to other robots are all bigger than the communication range r_c" | eq. (1) measures
   to every robot last heard of, not only the n_k of the sub-network (`nearness_over=known`;
@@ -268,7 +280,17 @@ eq2-unit-free | {_EQ2} (eq. 2; no unit given) | every term unit-free: I_i over t
   units of r_c cells) | eq2_units=unit-free | sheng-bidding
 """)
 
+
 # ------------------------------------------------------------------ experiments
+def table4_starts() -> list[list[int]]:
+    """Table 4's start cells, the same in every run (its runs vary the start times): the
+    five robots placed together as seed 1 places them."""
+    from mrexplore.seeding import make_streams
+    from mrexplore.sim import Scenario
+    from mrexplore.sim.world import build_world
+
+    scenario = Scenario(map=MAP, robots=5, seed=1, sensor_range=SENSOR_RANGE)
+    return [list(cell) for cell in build_world(scenario, make_streams(1, 5).starts).starts]
 
 
 def experiments(quick: bool) -> list[Experiment]:
@@ -282,12 +304,13 @@ def experiments(quick: bool) -> list[Experiment]:
         return Experiment(name, fixed, grid, tuple(range(1, seeds[runs] + 1)), curves_every=10)
 
     table4 = {"sharing": ["sheng-sync", "full"], "set": {"w3": list(TABLE4_W3)}}
+    places = {"start": table4_starts(), "start_delay": START_DELAY}
     fig17 = {"comm_range": list(ranges), **both_w3}
     return [
         sweep("fig11", "fig11", both_w3, strategy=bidding, robots=4),
         sweep("fig12_13_random", "fig12_13", {"robots": list(sizes)}, strategy="random-frontier"),
         sweep("fig12_13_bidding", "fig12_13", {"robots": list(sizes), **both_w3}, strategy=bidding),
-        sweep("table4", "table4", table4, strategy=bidding, robots=5),
+        sweep("table4", "table4", table4, strategy=bidding, robots=5, **places),
         sweep("fig17", "fig17", fig17, strategy=bidding, robots=5),
     ]
 
@@ -305,7 +328,8 @@ map | 40 x 40, two obstacles (not drawn) | `{MAP}`: obstacles 8 x 12 and 12 x 6
 sensor range r_s | 4 cell units | 4 cells, line of sight
 communication r_c | 16 cell units | 16 cells, multi-hop, through walls
 sensing | not while travelling (§2.1) | `sensing = arrival`
-start | close together (§3); varied places / times | adjacent, placed by the seed
+start | close together (§3); varied places (Fig. 11) / times (Table 4) | adjacent, placed by
+  the seed; Table 4: seed 1's cells, start ticks drawn from 0..{START_DELAY}
 time | seconds | ticks: a hop's latency, {SPEED:g} cell of path
 bidding time | t_bid = 1.5 s | t_bid = T_grace = t_d + 1 ticks (T_win = 0)
 eq. (2) units | not given | I_i, D_i in cells; lambda_i in units of r_c cells
