@@ -1,12 +1,10 @@
 """Claims of a paper as data: the sentence, the comparison, the rule that decides it.
 
-A :class:`Claim` names where in the paper it stands, the paper's sentence, the metric, the
-arms and a rule object that computes the verdict and writes the words that describe it, so
-report and code cannot drift apart. A :class:`Rule` grades items (cells, curves) *holds*,
-*weak* or *fails* from ``cell -> arm -> seed -> value`` (:data:`Values`), and
-:class:`Needs` counts the grades into the outcome. An :class:`Interpretation` is another
-reading of a sentence of the paper, as run overrides; :func:`robustness_section` shows
-whether each verdict stays the same under every reading.
+A :class:`Claim` holds where in the paper it stands, the paper's sentence, the metric, the arms
+and a :class:`Rule`, which grades items (cells, curves) *holds*, *weak* or *fails* from
+:data:`Values` and writes the words of its verdict, so report and code cannot drift apart;
+:class:`Needs` counts the grades into the outcome. An :class:`Interpretation` is another reading
+of the paper, as run overrides; :func:`robustness_section` shows whether each verdict survives.
 """
 
 from __future__ import annotations
@@ -24,11 +22,12 @@ CellKey = tuple[Any, ...]
 """A cell a claim is judged in, e.g. ``(map, robots)``."""
 BySeed = Mapping[int, float]
 Arms = Mapping[str, BySeed]
-"""One cell of :data:`Values`: ``arm -> seed -> value``."""
 Values = Mapping[CellKey, Arms]
 """``cell -> arm -> seed -> value``."""
 Outcome = Literal["reproduced", "partly", "not reproduced"]
 Judgement = tuple[Outcome, str]
+Pair = tuple[Summary, Summary, Summary | None]
+"""Two arms of one cell: each one's summary and, over the seeds both ran, ``a - b``."""
 HOLDS, WEAK, FAILS = 2, 1, 0
 """The grades of an item; ``None``: shown, not judged."""
 _MARKS = {HOLDS: "", WEAK: " (weak)", FAILS: " x", None: ""}
@@ -36,23 +35,14 @@ _RELATIONS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": opera
 
 
 def fmt(value: float | None, digits: int = 0) -> str:
-    """A number for a verdict line: ``digits`` decimals, thin-space thousands, ``-``
-    for a missing or non-finite value.
-
-    >>> fmt(12345.678), fmt(0.25, 2), fmt(None), fmt(float("nan"))
-    ('12 346', '0.25', '-', '-')
-    """
+    """A number for a verdict line: spaced thousands, ``-`` if missing or not finite."""
     if value is None or not math.isfinite(value):
         return "-"
     return f"{value:,.{digits}f}".replace(",", " ")
 
 
 def paired(by_seed: Arms, a: str, b: str) -> Summary:
-    """``A - B`` over the seeds both arms ran (mean, sd, 95% CI).
-
-    >>> paired({"a": {1: 5.0, 2: 7.0}, "b": {1: 4.0, 2: 4.0, 3: 1.0}}, "a", "b").mean
-    2.0
-    """
+    """``A - B`` over the seeds both arms ran (mean, sd, 95% CI)."""
     first, second = by_seed.get(a, {}), by_seed.get(b, {})
     return summarize_metric([first[s] - second[s] for s in sorted(set(first) & set(second))])
 
@@ -75,34 +65,20 @@ def _cell_name(cell: CellKey) -> str:
 
 
 def series_text(series: Mapping[Any, float], digits: int = 0) -> str:
-    """``x:mean, ...`` of one curve.
-
-    >>> series_text({4: 310.0, 8.0: 290.5}, 1)
-    '4:310.0, 8:290.5'
-    """
+    """``x:mean, ...`` of one curve."""
     name = lambda x: f"{x:g}" if isinstance(x, int | float) else str(x)  # noqa: E731
     return ", ".join(f"{name(x)}:{fmt(m, digits)}" for x, m in series.items())
 
 
 def lowest_arm(arms: Arms, among: Sequence[str]) -> str | None:
-    """The arm of ``among`` with the lowest mean (ties: the first by name), ``None``
-    when none has a finite mean.
-
-    >>> lowest_arm({"b": {1: 2.0}, "a": {1: 2.0}, "c": {1: 1.0}, "d": {}}, ["a", "b", "d"])
-    'a'
-    """
+    """The arm of ``among`` with the lowest finite mean (ties: the first by name), or ``None``."""
     means = {a: _mean(arms[a]) for a in among if a in arms}
     finite = {a: m for a, m in means.items() if math.isfinite(m)}
     return min(finite, key=lambda a: (finite[a], a)) if finite else None
 
 
 def family(arms: Mapping[str, Any], prefix: str) -> list[str]:
-    """The arms named ``<prefix> <number>`` (a parameter swept over arms: ``SR 0.1``,
-    ``SR 10``, ...), in the order of that number, their :func:`level`.
-
-    >>> family({"SR 10": {}, "full": {}, "SR 0.1": {}}, "SR")
-    ['SR 0.1', 'SR 10']
-    """
+    """The arms named ``<prefix> <number>`` (``SR 0.1``, ``SR 10``), by that :func:`level`."""
     return sorted((a for a in arms if a.startswith(f"{prefix} ")), key=level)
 
 
@@ -112,12 +88,7 @@ def level(arm: str) -> float:
 
 
 def spearman(x: Sequence[float], y: Sequence[float]) -> float:
-    """Spearman's rho over the finite pairs (average ranks for ties); nan for fewer than two
-    pairs or a constant side.
-
-    >>> spearman([1, 2, 3], [30, 20, 10]), spearman([1, 2], [5, 5])
-    (-1.0, nan)
-    """
+    """Spearman's rho over the finite pairs; nan for fewer than two or a constant side."""
     import numpy as np
     from scipy.stats import rankdata
 
@@ -129,11 +100,7 @@ def spearman(x: Sequence[float], y: Sequence[float]) -> float:
 
 
 def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
-    """+1 / -1 when ``y`` rises / falls with ``x`` (Spearman ``|rho| >= threshold``), else 0.
-
-    >>> trend_sign([1, 2, 3, 4], [4, 3, 2, 1], 0.3), trend_sign([1, 2, 3], [1, 1, 1], 0.3)
-    (-1, 0)
-    """
+    """+1 / -1 when ``y`` rises / falls with ``x`` (Spearman ``|rho| >= threshold``), else 0."""
     rho = spearman(x, y)
     return 0 if not abs(rho) >= threshold else (1 if rho > 0 else -1)
 
@@ -141,21 +108,10 @@ def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
 # ------------------------------------------------------------ grades and outcomes
 
 
-def _share_words(share: float, item: str) -> str:
-    words = {1.0: f"every {item}", 0.5: f"at least half of the {item}s"}
-    return words.get(share, f"at least {share:.0%} of the {item}s" if share else f"one {item}")
-
-
 @dataclass(frozen=True)
 class Needs:
     """The shares of the judged items that must hold, and hold at least weakly: all that
-    are given for ``reproduced``, one of them for ``partly``; 0 means at least one item.
-
-    >>> Needs().outcome([HOLDS, FAILS]), Needs().outcome([HOLDS, FAILS, FAILS]), Needs().outcome([])
-    ('partly', 'not reproduced', 'not reproduced')
-    >>> SOME_WEAK.words("it holds", "it holds weakly", "cell")
-    'reproduced if it holds in every cell, partly if it holds weakly in one cell'
-    """
+    are given for ``reproduced``, one of them for ``partly``; 0 means at least one item."""
 
     holds: float | None = 1.0
     weakly: float | None = None
@@ -176,26 +132,26 @@ class Needs:
 
     def words(self, strong: str, weak: str, item: str) -> str:
         def said(pair: tuple[float | None, float | None], joint: str) -> str:
-            parts = zip(pair, (strong, weak), strict=True)
-            return joint.join(f"{w} in {_share_words(t, item)}" for t, w in parts if t is not None)
+            parts = [(t, w) for t, w in zip(pair, (strong, weak), strict=True) if t is not None]
+            return joint.join(f"{w} in {share(t)}" for t, w in parts)
+
+        def share(t: float) -> str:
+            words = {1.0: f"every {item}", 0.5: f"at least half of the {item}s"}
+            return words.get(t, f"at least {t:.0%} of the {item}s" if t else f"one {item}")
 
         reproduced = said((self.holds, self.weakly), " and ")
         partly = said((self.partly_holds, self.partly_weakly), " or ")
         return f"reproduced if {reproduced}, partly if {partly}"
 
 
-EVERY_HALF = Needs()
-"""Reproduced if every item holds, partly if at least half do."""
-EVERY_WEAK = Needs(partly_holds=None, partly_weakly=1.0)
-"""Reproduced if every item holds, partly if every one holds at least weakly."""
-SOME_WEAK = Needs(partly_holds=None, partly_weakly=0.0)
-"""Reproduced if every item holds, partly if one holds at least weakly."""
+EVERY_HALF = Needs()  # reproduced if every item holds, partly if at least half do
+EVERY_WEAK = Needs(partly_holds=None, partly_weakly=1.0)  # partly: every one at least weakly
+SOME_WEAK = Needs(partly_holds=None, partly_weakly=0.0)  # partly: one at least weakly
 
 
 @dataclass(frozen=True)
 class Check:
-    """One judged item: its name, its numbers, its grade (``None``: shown, not judged), the
-    comparison it belongs to (``block``) when a rule makes several."""
+    """One judged item: its name, its numbers, its grade, the comparison (``block``) it is of."""
 
     name: str
     text: str
@@ -224,9 +180,8 @@ class Ask:
 @dataclass(frozen=True, kw_only=True)
 class Rule:
     """Base of the rules: :meth:`checks` grades the items, :attr:`needs` (or :attr:`usual`)
-    counts them, :meth:`describe` says so from :meth:`what` and :meth:`conditions`.
-    ``shown``: arms shown beside, not judged; ``brief``: the evidence names only the items
-    that do not hold; ``also``: another pair of arms whose count is cited."""
+    counts them, :meth:`describe` says so. ``shown``: arms shown, not judged; ``brief``: name
+    only the items that do not hold; ``also``: another pair of arms whose count is cited."""
 
     needs: Needs | None = None
     shown: tuple[str, ...] = ()
@@ -257,12 +212,10 @@ class Rule:
 
     def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
         checks = list(self.checks(Ask(values, first, tuple(seconds), digits)))
-        blocks: dict[str, list[Check]] = {}
-        for check in checks:
-            blocks.setdefault(check.block, []).append(check)
+        blocks = [(k, list(g)) for k, g in itertools.groupby(checks, lambda c: c.block)]
         text = " | ".join(
             f"{name}: {self._block(part)}" if len(blocks) > 1 else self._block(part)
-            for name, part in blocks.items()
+            for name, part in blocks
         )
         if self.also:
             more = list(self.checks(Ask(values, self.also[0], self.also[1:], digits)))
@@ -293,23 +246,14 @@ class Rule:
 # ------------------------------------------------------------------ cell by cell
 
 
-@dataclass(frozen=True)
-class Pair:
-    """Two arms of one cell: each one's summary and, over the seeds both ran, ``a - b``."""
-
-    a: Summary
-    b: Summary
-    d: Summary | None
-
-
 @dataclass(frozen=True, kw_only=True)
 class Cells(Rule):
     """Base of the rules that compare ``first`` with each arm of ``seconds`` (``best``: the
-    one with the lowest mean) cell by cell, leaving out cells without both. ``seeds``:
-    ``all`` (each arm over its seeds, the paired difference over those both ran), ``common``
-    (both over the seeds both ran, at least ``min_seeds``) or ``unpaired`` (no difference).
-    ``except_at``: last cell keys where the claim is the opposite. ``members``: ``first``
-    names a :func:`family`; compare ``each`` member or the ``top`` level."""
+    one with the lowest mean) cell by cell, in the cells with both. ``seeds``: ``all`` (each
+    arm over its seeds, the paired difference over those both ran), ``common`` (both over the
+    seeds both ran, at least ``min_seeds``) or ``unpaired`` (no difference). ``except_at``:
+    last cell keys where the claim is the opposite. ``members``: ``first`` names a
+    :func:`family`; compare ``each`` member or the ``top`` level."""
 
     seeds: Literal["all", "common", "unpaired"] = "all"
     min_seeds: int = 1
@@ -324,7 +268,8 @@ class Cells(Rule):
         for second in [""] if self.best else [*ask.seconds, *self.shown]:
             for cell, arms in ask.values.items():
                 other = second or lowest_arm(arms, ask.seconds) or ""
-                for arm in self._members(arms, ask.first):
+                members = family(arms, ask.first) if self.members else [ask.first]
+                for arm in members[-1:] if self.members == "top" else members:
                     pair = self._pair(arms, arm, other)
                     if pair is None:
                         continue
@@ -335,22 +280,17 @@ class Cells(Rule):
                     judged = None if second in self.shown else grade
                     yield Check(name, text, judged, f"vs `{second}`" if second else "", pair)
 
-    def _members(self, arms: Arms, first: str) -> list[str]:
-        found = family(arms, first) if self.members else [first]
-        return found[-1:] if self.members == "top" else found
-
     def _pair(self, arms: Arms, a: str, b: str) -> Pair | None:
         if a not in arms or b not in arms:
             return None
         x, y = arms[a], arms[b]
-        common = sorted(set(x) & set(y))
         if self.seeds == "common":
+            common = sorted(set(x) & set(y))
             if len(common) < max(self.min_seeds, 1):
                 return None
             x, y = ({s: v[s] for s in common} for v in (x, y))
-        d = summarize_metric([x[s] - y[s] for s in common])
-        mean_a, mean_b = (summarize_metric(list(v.values())) for v in (x, y))
-        return Pair(mean_a, mean_b, None if self.seeds == "unpaired" else d)
+        d = None if self.seeds == "unpaired" else paired({"a": x, "b": y}, "a", "b")
+        return summarize_metric(list(x.values())), summarize_metric(list(y.values())), d
 
     def arm(self, first: str) -> str:
         words = {"": f"`{first}`", "each": f"each `{first} *` arm"}
@@ -364,57 +304,44 @@ class Cells(Rule):
         opposite = f" (the opposite where the last cell key is {opposite})" if opposite else ""
         return f"{seeds.get(self.seeds, '')}, cell by cell{opposite}"
 
-    def versus(self, second: str) -> str:
-        return f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
-
 
 @dataclass(frozen=True)
 class Means(Cells):
-    """The mean (``statistic="sd"``: the sd) of ``first`` ``relation`` that of ``second``;
-    each cell shows the paired difference and its 95% CI (but ``unpaired``). ``summary``:
-    also how many CIs lie below / above 0 and the ratios' median and range.
-
-    >>> values = {("m", 2): {"a": {1: 1.0, 2: 3.0}, "b": {1: 2.0, 2: 4.0}},
-    ...           ("m", 3): {"a": {1: 5.0}, "b": {1: 4.0}}}
-    >>> Means("<=").judge(values, "a", ["b"], 0)
-    ('partly', 'holds in 1/2 cells; m/2r: 2 vs 3 (paired -1 [-1, -1], n 2); m/3r: 5 vs 4 \
-(paired 1 [-, -], n 1) x')
-    >>> print(Means("<", best=True, except_at=(3,)).describe("b", "a / c", "T99"))
-    mean T99 of `b` < that of the lowest of `a / c` in each cell, cell by cell (the opposite \
-where the last cell key is 3); reproduced if it holds in every cell, partly if it holds in at \
-least half of the cells
-    """
+    """The mean (``statistic="sd"``: the sd) of ``first`` ``relation`` that of ``second``,
+    beside the paired difference and its 95% CI; ``summary``: also how many CIs lie below /
+    above 0 and the ratios' median and range."""
 
     relation: str
     statistic: Literal["mean", "sd"] = "mean"
     summary: bool = False
 
     def what(self, first: str, second: str, metric: str) -> str:
+        versus = f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
         compared = f"{self.statistic} {metric} of {self.arm(first)} {self.relation} that of"
-        return f"{compared} {self.versus(second)}{self.over()}"
+        return f"{compared} {versus}{self.over()}"
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        a, b = getattr(pair.a, self.statistic), getattr(pair.b, self.statistic)
+        a, b = (getattr(s, self.statistic) for s in pair[:2])
         text = f"{ask.fmt(a)} vs {ask.fmt(b)}"
-        if pair.d is not None and self.statistic == "mean":
-            text += f" (paired {_diff(pair.d, ask.digits)})"
+        if pair[2] is not None and self.statistic == "mean":
+            text += f" (paired {_diff(pair[2], ask.digits)})"
         return (HOLDS if _RELATIONS[self.relation](a, b) else FAILS), text
 
     def totals(self, checks: Sequence[Check]) -> list[str]:
         from statistics import median
 
+        if not self.summary:
+            return []
         pairs: list[Pair] = [c.data for c in checks]
-        differences = [p.d for p in pairs if p.d is not None]
+        differences = [d for _, _, d in pairs if d is not None]
         out = []
-        if self.summary and self.statistic == "mean" and len(differences) == len(pairs):
-            below, above = (
-                sum(d.ci_high < 0 for d in differences),
-                sum(d.ci_low > 0 for d in differences),
-            )
+        if self.statistic == "mean" and len(differences) == len(pairs):
+            below = sum(d.ci_high < 0 for d in differences)
+            above = sum(d.ci_low > 0 for d in differences)
             out.append(f"paired 95% CI below 0 in {below}, above 0 in {above}")
-        of = [_ratio(getattr(p.a, self.statistic), getattr(p.b, self.statistic)) for p in pairs]
+        of = [_ratio(getattr(a, self.statistic), getattr(b, self.statistic)) for a, b, _ in pairs]
         ratios = {c.name: r for c, r in zip(checks, of, strict=True) if math.isfinite(r)}
-        if self.summary and ratios:
+        if ratios:
             low, spread = min(ratios, key=ratios.__getitem__), sorted(ratios.values())
             middle, ends = fmt(median(spread), 2), f"{fmt(spread[0], 2)}-{fmt(spread[-1], 2)}"
             out.append(f"ratio median {middle}, range {ends}, lowest at {low}")
@@ -425,14 +352,7 @@ least half of the cells
 class Paired(Cells):
     """The paired difference ``first - second``: ``<`` its 95% CI below 0 holds, its mean
     below 0 weakly (``>``: above); ``=`` its mean within ``tolerance`` of the mean of
-    ``second`` and its CI holding 0 (or unknown: one seed) holds, one of the two weakly.
-
-    >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(6)},
-    ...                      "b": {s: 5.0 for s in range(6)}}}
-    >>> Paired("<").judge(values, "a", ["b"], 1)
-    ('reproduced', 'holds in 1/1 cells, at least weakly in 1/1; m/2r: 1.5 vs 5.0 (paired -3.5 \
-[-4.1, -2.9], n 6)')
-    """
+    ``second`` and its CI holding 0 (or unknown: one seed) holds, one of the two weakly."""
 
     relation: Literal["<", ">", "="] = "<"
     tolerance: float = 0.1
@@ -450,13 +370,13 @@ class Paired(Cells):
         return f"its 95% CI is {side} 0", f"its mean is {side} 0"
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        d = pair.d or summarize_metric([])
-        text = f"{ask.fmt(pair.a.mean)} vs {ask.fmt(pair.b.mean)} (paired {_diff(d, ask.digits)})"
+        a, b, d = pair[0], pair[1], pair[2] or summarize_metric([])
+        text = f"{ask.fmt(a.mean)} vs {ask.fmt(b.mean)} (paired {_diff(d, ask.digits)})"
         if self.relation == "=":
-            close, known = abs(d.mean) <= self.tolerance * pair.b.mean, math.isfinite(d.ci_low)
+            close, known = abs(d.mean) <= self.tolerance * b.mean, math.isfinite(d.ci_low)
             zero_in = not known or d.ci_low <= 0 <= d.ci_high
             grade = HOLDS if close and zero_in else WEAK if close or (known and zero_in) else FAILS
-            return grade if math.isfinite(d.mean + pair.b.mean) else FAILS, text
+            return grade if math.isfinite(d.mean + b.mean) else FAILS, text
         sure, likely = (d.ci_high, d.mean) if self.relation == "<" else (-d.ci_low, -d.mean)
         return (HOLDS if sure < 0 else WEAK if likely < 0 else FAILS), text
 
@@ -465,12 +385,7 @@ class Paired(Cells):
 class Ratio(Cells):
     """The ratio of the means ``first / second`` ``relation`` ``bound`` holds, ``relation``
     ``weak`` weakly; with ``paper`` (cell -> the paper's ratio) it holds only if also
-    within ``factor`` of the paper's, else weakly. ``digits``: of the ratios.
-
-    >>> values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
-    >>> Ratio("<=", 1.25).judge(values, "a", ["b"], 0)[1]
-    'holds in 1/2 cells; m/1r: 11 vs 10 (ratio 1.10); m/5r: 15 vs 10 (ratio 1.50) x'
-    """
+    within ``factor`` of the paper's, else weakly. ``digits``: of the ratios."""
 
     relation: str
     bound: float
@@ -489,8 +404,9 @@ class Ratio(Cells):
         return bound, f"it is {self.relation} {self.weak:g}" if self.weak is not None else ""
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        holds, r = _RELATIONS[self.relation], _ratio(pair.a.mean, pair.b.mean)
-        text = f"{ask.fmt(pair.a.mean)} vs {ask.fmt(pair.b.mean)} (ratio {fmt(r, self.digits)}"
+        a, b = pair[0].mean, pair[1].mean
+        holds, r = _RELATIONS[self.relation], _ratio(a, b)
+        text = f"{ask.fmt(a)} vs {ask.fmt(b)} (ratio {fmt(r, self.digits)}"
         if self.paper is None:
             weak = self.weak is not None and holds(r, self.weak)
             return (HOLDS if holds(r, self.bound) else WEAK if weak else FAILS), text + ")"
@@ -503,13 +419,7 @@ class Ratio(Cells):
 @dataclass(frozen=True)
 class Level(Rule):
     """The mean of ``first`` ``relation`` ``bound`` in a cell holds, ``relation`` ``weak``
-    weakly; cells without a finite mean are left out.
-
-    >>> values = {("m", 2): {"a": {1: 0.95}, "b": {1: 0.2}}, ("m", 4): {"a": {1: 0.9}}}
-    >>> Level(">=", 0.95, 0.8, shown=("b",)).judge(values, "a", [], 2)
-    ('partly', '`a`: holds in 1/2 cells, at least weakly in 2/2; m/2r: 0.95; m/4r: 0.90 (weak) \
-| `b`: m/2r: 0.20')
-    """
+    weakly; cells without a finite mean are left out."""
 
     relation: str
     bound: float
@@ -538,14 +448,7 @@ class Level(Rule):
 @dataclass(frozen=True)
 class NotBelowAll(Rule):
     """``first`` is not superior to the other arms: superior in a cell where the paired 95%
-    CI of ``first - second`` lies below 0 against every other arm.
-
-    >>> far = {s: 5.0 + s % 2 for s in range(4)}
-    >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(4)}, "b": far, "c": far},
-    ...           ("m", 4): {"a": far, "b": far, "c": far}}
-    >>> NotBelowAll(brief=True).judge(values, "a", ["b", "c"], 0)
-    ('partly', 'holds in 1/2 cells; fails in m/2r: `b` -4 [-4, -4], n 4; `c` -4 [-4, -4], n 4 x')
-    """
+    CI of ``first - second`` lies below 0 against every other arm."""
 
     def what(self, first: str, second: str, metric: str) -> str:
         test = f"the paired 95% CI of its {metric} minus that of each of `{second}` lies below 0"
@@ -599,10 +502,6 @@ class Along(Rule):
         return axes.get(self.along, f"the level of `{first} *`, cell by cell")
 
 
-def _moves(direction: str, a: float, b: float) -> bool:
-    return b < a if direction == "falls" else b > a
-
-
 @dataclass(frozen=True)
 class Trend(Along):
     """The curves of ``first`` and of each arm of ``seconds`` (``ratio``, ``gap``: of
@@ -614,17 +513,7 @@ class Trend(Along):
     largest (weakly) and at least as much up to the middle key as after (holds); ``ratio``,
     the ratio of the means moves from the first point to the last (and ends beyond
     ``bound``, if given; else weakly); ``gap``, the difference and the ratio shrink (the
-    difference only: weakly).
-
-    >>> values = {("m", n): {"a": {1: 9 / n}, "b": {1: b}} for n, b in ((1, 8), (2, 6), (3, 7))}
-    >>> Trend("steps", needs=EVERY_WEAK).judge(values, "a", ["b"], 0)[1]
-    'holds in 1/2 curves, at least weakly in 2/2; `a` m: 1:9, 2:4, 3:3, -67% first to last; \
-`b` m: 1:8, 2:6, 3:7, -12% first to last (weak)'
-    >>> Trend("rank").judge(values, "b", [], 0)
-    ('not reproduced', 'holds in 0/1 curves; m: 1:8, 2:6, 3:7 (Spearman rho -0.50) x')
-    >>> Trend("gap").judge(values, "a", ["b"], 0)[1]
-    'holds in 1/1 curves, at least weakly in 1/1; m: 1: 1 (x1.12) -> 3: -4 (x0.43)'
-    """
+    difference only: weakly)."""
 
     kind: Literal["steps", "rank", "diminishing", "ratio", "gap"]
     direction: Literal["falls", "rises"] = "falls"
@@ -663,6 +552,9 @@ class Trend(Along):
             return f"{rho} and {sure}", "one of the two holds, or that mean is above 0"
         return words[self.kind]
 
+    def _moves(self, a: float, b: float) -> bool:
+        return b < a if self.direction == "falls" else b > a
+
     def checks(self, ask: Ask) -> Iterator[Check]:
         if self.kind in ("ratio", "gap"):
             yield from self._against(ask)
@@ -679,8 +571,8 @@ class Trend(Along):
 
     def _steps(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
         means = [_mean(s) for s in curve.values()]
-        every = all(_moves(self.direction, a, b) for a, b in itertools.pairwise(means))
-        ends = len(means) > 1 and _moves(self.direction, means[0], means[-1])
+        every = all(self._moves(a, b) for a, b in itertools.pairwise(means))
+        ends = len(means) > 1 and self._moves(means[0], means[-1])
         paper = ", ".join(ask.fmt(p) for p in self.paper.get(arm, ()))
         text = series_text(dict(zip(curve, means, strict=True)), ask.digits)
         text += f" (paper {paper})" if paper else ""
@@ -696,8 +588,7 @@ class Trend(Along):
         series = series_text(dict(zip(xs, means, strict=True)), ask.digits)
         text = f"{series} (Spearman rho {fmt(rho, 2)}"
         if not self.paired:
-            ends = _moves(self.direction, means[0], means[-1])
-            return (HOLDS if steep and ends else FAILS), text + ")"
+            return (HOLDS if steep and self._moves(means[0], means[-1]) else FAILS), text + ")"
         d = paired({"a": curve[xs[0]], "b": curve[xs[-1]]}, "a", "b")
         sure, likely = (d.ci_low, d.mean) if self.direction == "falls" else (-d.ci_high, -d.mean)
         grade = HOLDS if steep and sure > 0 else WEAK if steep or likely > 0 else FAILS
@@ -718,32 +609,26 @@ class Trend(Along):
                 common = sorted(set(a) & set(b))
                 if common:
                     points[x] = (_mean({s: a[s] for s in common}), _mean({s: b[s] for s in common}))
-            if len(points) >= 2:
-                yield Check(name, *self._ratios(points, ask))
-
-    def _ratios(self, points: Mapping[Any, tuple[float, float]], ask: Ask) -> tuple[str, int]:
-        ratios = {x: _ratio(a, b) for x, (a, b) in points.items()}
-        (x0, r0), (x1, r1) = next(iter(ratios.items())), list(ratios.items())[-1]
-        if self.kind == "ratio":
-            moves = _moves(self.direction, r0, r1)
-            bound = self.bound is None or _moves(self.direction, self.bound, r1)
-            grade = HOLDS if moves and bound else WEAK if moves else FAILS
-            return series_text(ratios, self.digits), grade
-        (a0, b0), (a1, b1) = points[x0], points[x1]
-        text = f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
-        text += f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
-        return text, ((HOLDS if r1 < r0 else WEAK) if a1 - b1 < a0 - b0 else FAILS)
+            if len(points) < 2:
+                continue
+            ratios = {x: _ratio(a, b) for x, (a, b) in points.items()}
+            (x0, r0), *_, (x1, r1) = ratios.items()
+            if self.kind == "ratio":
+                moves = self._moves(r0, r1)
+                bound = self.bound is None or self._moves(self.bound, r1)
+                grade = HOLDS if moves and bound else WEAK if moves else FAILS
+                yield Check(name, series_text(ratios, self.digits), grade)
+                continue
+            (a0, b0), (a1, b1) = points[x0], points[x1]
+            text = f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
+            text += f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
+            yield Check(name, text, (HOLDS if r1 < r0 else WEAK) if a1 - b1 < a0 - b0 else FAILS)
 
 
 @dataclass(frozen=True)
 class FallsFasterBelow(Along):
     """Per curve of ``first`` (x: its key), the mean falls per unit of x from the smallest x
-    to ``at`` (the gain below, above 0) faster than from ``at`` to the largest (above).
-
-    >>> values = {("t", x): {"a": {1: m}} for x, m in ((4, 400.0), (16, 280.0), (24, 272.0))}
-    >>> FallsFasterBelow(16, "cell").judge(values, "a", [], 2)
-    ('reproduced', 'holds in 1/1 curves; t: 10.00 per cell below 16 vs 1.00 above')
-    """
+    to ``at`` (the gain below, above 0) faster than from ``at`` to the largest (above)."""
 
     at: float
     unit: str = "unit"
@@ -751,11 +636,8 @@ class FallsFasterBelow(Along):
 
     def what(self, first: str, second: str, metric: str) -> str:
         at = f"{self.at:g}"
-        below, above = (
-            f"(m(x_min) - m({at})) / ({at} - x_min)",
-            f"(m({at}) - m(x_max)) / (x_max - {at})",
-        )
-        gains = f"gain per {self.unit} below {at} = {below}, above = {above}"
+        gains = f"gain per {self.unit} below {at} = (m(x_min) - m({at})) / ({at} - x_min), "
+        gains += f"above = (m({at}) - m(x_max)) / (x_max - {at})"
         return f"mean {metric} of `{first}` against {self.axis(first)}, x the key: {gains}"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
@@ -771,12 +653,7 @@ class FallsFasterBelow(Along):
 @dataclass(frozen=True)
 class FallsLess(Along):
     """Per curve, the mean of ``first`` falls less from the smallest key to the largest than
-    that of ``second`` (a rise counts as less).
-
-    >>> values = {("t", x): {"a": {1: a}, "b": {1: b}} for x, a, b in ((4, 30, 34), (8, 29, 30))}
-    >>> FallsLess().judge(values, "a", ["b"], 0)
-    ('reproduced', 'holds in 1/1 curves; t: `a` falls by 1 vs `b` by 4')
-    """
+    that of ``second`` (a rise counts as less)."""
 
     grade_words: ClassVar = ("the fall of the first is smaller", "")
 
@@ -799,12 +676,7 @@ class FallsLess(Along):
 @dataclass(frozen=True)
 class RisesAbove(Along):
     """Per curve of ``first``, the mean at every key above ``at`` exceeds that at the largest
-    key of at most ``at`` (for instance: a team does worse above seven robots).
-
-    >>> values = {("s", 1, n): {"a": {1: t}} for n, t in ((6, 30.0), (7, 25.0), (8, 26.0))}
-    >>> RisesAbove(7, within=("s",)).judge(values, "a", [], 0)
-    ('reproduced', 'holds in 1/1 curves; s/1: 25 at 7, 26 at 8')
-    """
+    key of at most ``at`` (for instance: a team does worse above seven robots)."""
 
     at: float
     usual: ClassVar[Needs] = SOME_WEAK
@@ -820,25 +692,22 @@ class RisesAbove(Along):
             ref = max((k for k in means if k <= self.at), default=None)
             if ref is not None and above:
                 shown = ", ".join(f"{ask.fmt(means[k])} at {k}" for k in [ref, *above])
-                yield Check(
-                    name, shown, HOLDS if all(means[k] > means[ref] for k in above) else FAILS
-                )
+                grade = HOLDS if all(means[k] > means[ref] for k in above) else FAILS
+                yield Check(name, shown, grade)
 
 
 # ----------------------------------------------------- against the paper's numbers
+
+
+def _family_means(arms: Arms, prefix: str) -> dict[str, float]:
+    return {a: _mean(arms[a]) for a in family(arms, prefix)}
 
 
 @dataclass(frozen=True)
 class SignsAsPaper(Rule):
     """In each cell ``(column,)`` the sign of Spearman rho(level, mean) along the
     :func:`family` ``first`` (0 if ``|rho| < threshold``) is that of the paper's column
-    (``paper``: level -> column -> value).
-
-    >>> paper = {1.0: {"A": 9.0, "B": 1.0}, 2.0: {"A": 5.0, "B": 1.0}, 3.0: {"A": 1.0, "B": 1.0}}
-    >>> ours = {("A",): {"SR 1": {1: 3.0}, "SR 2": {1: 2.0}}, ("B",): {"SR 1": {1: 3.0}}}
-    >>> SignsAsPaper(paper, 0.3).judge(ours, "SR", [], 0)
-    ('reproduced', 'holds in 2/2 columns; A: paper -1, ours -1; B: paper +0, ours +0')
-    """
+    (``paper``: level -> column -> value)."""
 
     paper: Mapping[float, Mapping[str, float]]
     threshold: float
@@ -852,22 +721,16 @@ class SignsAsPaper(Rule):
         levels, rows = list(self.paper), list(self.paper.values())
         for column in rows[0] if rows else {}:
             theirs = trend_sign(levels, [row[column] for row in rows], self.threshold)
-            arms = ask.values.get((column,), {})
-            means = {a: _mean(arms[a]) for a in family(arms, ask.first)}
+            means = _family_means(ask.values.get((column,), {}), ask.first)
             ours = trend_sign([level(a) for a in means], list(means.values()), self.threshold)
-            yield Check(
-                column, f"paper {theirs:+d}, ours {ours:+d}", HOLDS if theirs == ours else FAILS
-            )
+            text = f"paper {theirs:+d}, ours {ours:+d}"
+            yield Check(column, text, HOLDS if theirs == ours else FAILS)
 
 
 @dataclass(frozen=True)
 class AtEnds(Rule):
     """In cell ``(column,)``, the mean of the :func:`family` ``first`` is at least ``high`` at
-    its lowest level and at most ``low`` at its highest: both hold, one weakly.
-
-    >>> AtEnds("TPT", 20, 5).judge({("TPT",): {"SR 1": {1: 30.0}, "SR 9": {1: 8.0}}}, "SR", [], 1)
-    ('partly', 'holds in 0/1 cells, at least weakly in 1/1; TPT: SR 1 30.0, SR 9 8.0 (weak)')
-    """
+    its lowest level and at most ``low`` at its highest: both hold, one weakly."""
 
     column: str
     high: float
@@ -880,8 +743,7 @@ class AtEnds(Rule):
         return f"mean {metric} of {self.column} along `{first} *`: {ends}"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
-        arms = ask.values.get((self.column,), {})
-        means = {a: _mean(arms[a]) for a in family(arms, ask.first)}
+        means = _family_means(ask.values.get((self.column,), {}), ask.first)
         if means:
             low, high = next(iter(means)), list(means)[-1]
             met = (means[low] >= self.high) + (means[high] <= self.low)
@@ -892,12 +754,7 @@ class AtEnds(Rule):
 @dataclass(frozen=True)
 class NearPaper(Rule):
     """Per cell, the means of the :func:`family` ``first`` at the paper's levels (``paper``:
-    level -> value) fall strictly (weakly) and each is within ``factor`` of the paper's.
-
-    >>> values = {("m", 3): {"SR 1": {1: 9.0}, "SR 10": {1: 3.0}}}
-    >>> NearPaper({1.0: 8.0, 10.0: 1.0}, 2).judge(values, "SR", [], 1)
-    ('partly', 'holds in 0/1 cells, at least weakly in 1/1; m/3r: SR 1 9.0, SR 10 3.0 (weak)')
-    """
+    level -> value) fall strictly (weakly) and each is within ``factor`` of the paper's."""
 
     paper: Mapping[float, float]
     factor: float
@@ -956,7 +813,6 @@ class Claim:
     seconds: tuple[str, ...] = ()
 
     def rule_text(self) -> str:
-        """The rule in words, for the report's rule list."""
         second = " / ".join(a for a in (self.second, *self.seconds) if a)
         return self.rule.describe(self.first, second, self.metric_label)
 
@@ -1004,16 +860,7 @@ def robustness_section(
     interpretations: Sequence[Interpretation],
 ) -> list[str]:
     """Per claim, its verdict under every reading (``readings``: name, the default first,
-    -> ``metric -> values``) and ``robust`` / ``fragile``.
-
-    >>> claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T", "a", "b", Means("<="))
-    >>> default = {"time": {("m", 2): {"a": {1: 1.0}, "b": {1: 2.0}}}}
-    >>> other = {"time": {("m", 2): {"a": {1: 3.0}, "b": {1: 2.0}}}}
-    >>> lines = robustness_section([claim], {"default": default, "slow-a": other},
-    ...     [Interpretation("slow-a", "§2 'a moves'", "a waits")])
-    >>> lines[-2]
-    '| `c` | reproduced | not reproduced | **fragile** (changes under slow-a) |'
-    """
+    -> ``metric -> values``) and ``robust`` / ``fragile``."""
     names = list(readings)
     lines = ["## Robustness to the readings of the paper", ""]
     lines += [
