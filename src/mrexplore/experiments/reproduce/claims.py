@@ -1,10 +1,9 @@
 """Claims of a paper as data: the sentence, the comparison, the rule that decides it.
 
-A :class:`Claim` holds where in the paper it stands, the paper's sentence, the metric, the arms
-and a :class:`Rule`, which grades items (cells, curves) *holds*, *weak* or *fails* from
-:data:`Values` and writes the words of its verdict, so report and code cannot drift apart;
-:class:`Needs` counts the grades into the outcome. An :class:`Interpretation` is another reading
-of the paper, as run overrides; :func:`robustness_section` shows whether each verdict survives.
+A :class:`Claim` pairs the paper's sentence with a :class:`Rule` that grades items (cells,
+curves) of :data:`Values` *holds*, *weak* or *fails* and writes the words of its verdict, so
+report and code cannot drift apart; :class:`Needs` counts the grades into the outcome. An
+:class:`Interpretation` is another reading of the paper (see :func:`robustness_section`).
 """
 
 from __future__ import annotations
@@ -120,15 +119,11 @@ class Needs:
 
     def outcome(self, grades: Sequence[int]) -> Outcome:
         counts = (grades.count(HOLDS), len(grades) - grades.count(FAILS))
-
-        def met(share: float | None, count: int) -> bool:
-            return share is not None and count > 0 and count / len(grades) >= share
-
-        reproduced = zip((self.holds, self.weakly), counts, strict=True)
-        if all(t is None or met(t, c) for t, c in reproduced):
+        shares = [c / len(grades) if c else -1.0 for c in counts]  # -1: no item, below any share
+        if all(t is None or s >= t for t, s in zip((self.holds, self.weakly), shares, strict=True)):
             return "reproduced"
-        partly = zip((self.partly_holds, self.partly_weakly), counts, strict=True)
-        return "partly" if any(met(t, c) for t, c in partly) else "not reproduced"
+        partly = zip((self.partly_holds, self.partly_weakly), shares, strict=True)
+        return "partly" if any(t is not None and s >= t for t, s in partly) else "not reproduced"
 
     def words(self, strong: str, weak: str, item: str) -> str:
         def said(pair: tuple[float | None, float | None], joint: str) -> str:
@@ -165,8 +160,7 @@ class Check:
 
 @dataclass(frozen=True)
 class Ask:
-    """What a rule judges: the values, the first arm and those it is compared with, the
-    decimals of the numbers shown."""
+    """What a rule judges: the values, the first arm, those it is compared with, the decimals."""
 
     values: Values
     first: str
@@ -248,12 +242,10 @@ class Rule:
 
 @dataclass(frozen=True, kw_only=True)
 class Cells(Rule):
-    """Base of the rules that compare ``first`` with each arm of ``seconds`` (``best``: the
-    one with the lowest mean) cell by cell, in the cells with both. ``seeds``: ``all`` (each
-    arm over its seeds, the paired difference over those both ran), ``common`` (both over the
-    seeds both ran, at least ``min_seeds``) or ``unpaired`` (no difference). ``except_at``:
-    last cell keys where the claim is the opposite. ``members``: ``first`` names a
-    :func:`family`; compare ``each`` member or the ``top`` level."""
+    """Base of the rules comparing ``first`` with each of ``seconds`` (``best``: the lowest) cell
+    by cell. ``seeds``: ``all`` (the difference over the seeds both ran), ``common`` (all over
+    those, at least ``min_seeds``) or ``unpaired``; ``except_at``: last cell keys where the claim
+    is the opposite; ``members``: compare ``each`` or the ``top`` arm of the family ``first``."""
 
     seeds: Literal["all", "common", "unpaired"] = "all"
     min_seeds: int = 1
@@ -297,7 +289,6 @@ class Cells(Rule):
         return words.get(self.members, f"the highest-level `{first} *` arm")
 
     def over(self) -> str:
-        """How the cells are read, in words."""
         at_least = f" (at least {self.min_seeds})" if self.min_seeds > 1 else ""
         seeds = {"common": f" over the seeds both ran{at_least}", "unpaired": " (seeds not paired)"}
         opposite = ", ".join(map(str, self.except_at))
@@ -307,9 +298,8 @@ class Cells(Rule):
 
 @dataclass(frozen=True)
 class Means(Cells):
-    """The mean (``statistic="sd"``: the sd) of ``first`` ``relation`` that of ``second``,
-    beside the paired difference and its 95% CI; ``summary``: also how many CIs lie below /
-    above 0 and the ratios' median and range."""
+    """The mean (or ``statistic="sd"``) of ``first`` ``relation`` that of ``second``; ``summary``:
+    also how many paired 95% CIs lie below / above 0 and the ratios' median and range."""
 
     relation: str
     statistic: Literal["mean", "sd"] = "mean"
@@ -330,18 +320,15 @@ class Means(Cells):
     def totals(self, checks: Sequence[Check]) -> list[str]:
         from statistics import median
 
-        if not self.summary:
-            return []
         pairs: list[Pair] = [c.data for c in checks]
-        differences = [d for _, _, d in pairs if d is not None]
+        ds = [d for _, _, d in pairs if d is not None]
         out = []
-        if self.statistic == "mean" and len(differences) == len(pairs):
-            below = sum(d.ci_high < 0 for d in differences)
-            above = sum(d.ci_low > 0 for d in differences)
+        if self.summary and self.statistic == "mean" and len(ds) == len(pairs):
+            below, above = sum(d.ci_high < 0 for d in ds), sum(d.ci_low > 0 for d in ds)
             out.append(f"paired 95% CI below 0 in {below}, above 0 in {above}")
         of = [_ratio(getattr(a, self.statistic), getattr(b, self.statistic)) for a, b, _ in pairs]
         ratios = {c.name: r for c, r in zip(checks, of, strict=True) if math.isfinite(r)}
-        if ratios:
+        if self.summary and ratios:
             low, spread = min(ratios, key=ratios.__getitem__), sorted(ratios.values())
             middle, ends = fmt(median(spread), 2), f"{fmt(spread[0], 2)}-{fmt(spread[-1], 2)}"
             out.append(f"ratio median {middle}, range {ends}, lowest at {low}")
@@ -383,9 +370,8 @@ class Paired(Cells):
 
 @dataclass(frozen=True)
 class Ratio(Cells):
-    """The ratio of the means ``first / second`` ``relation`` ``bound`` holds, ``relation``
-    ``weak`` weakly; with ``paper`` (cell -> the paper's ratio) it holds only if also
-    within ``factor`` of the paper's, else weakly. ``digits``: of the ratios."""
+    """The ratio of the means ``first / second`` ``relation`` ``bound`` (holds) or ``weak``
+    (weakly); with ``paper`` (cell -> ratio) it holds only if also within ``factor`` of it."""
 
     relation: str
     bound: float
@@ -468,10 +454,9 @@ class NotBelowAll(Rule):
 
 @dataclass(frozen=True, kw_only=True)
 class Along(Rule):
-    """Base of the rules that follow curves: ``along`` the last cell key (a curve per group
-    of the other keys), the ``cells`` in the caller's order (one curve), or the levels of
-    the :func:`family` ``first`` (a curve per cell); ``within``: the cells whose key starts
-    with these parts only."""
+    """Base of the rules that follow curves ``along`` the last cell key (one per group of the other
+    keys), the ``cells`` (one), or the levels of the :func:`family` ``first`` (one per cell),
+    in the cells whose key starts with ``within``."""
 
     along: Literal["key", "cells", "family"] = "key"
     within: CellKey = ()
@@ -486,10 +471,8 @@ class Along(Rule):
             if self.along == "family" and family(arms, arm):
                 out[_cell_name(cell)] = {level(a): arms[a] for a in family(arms, arm)}
             elif self.along != "family" and arm in arms:
-                group, x = (
-                    ((), _cell_name(cell)) if self.along == "cells" else (cell[:-1], cell[-1])
-                )
-                out.setdefault("/".join(map(str, group)), {})[x] = arms[arm]
+                key = ((), _cell_name(cell)) if self.along == "cells" else (cell[:-1], cell[-1])
+                out.setdefault("/".join(map(str, key[0])), {})[key[1]] = arms[arm]
         return out
 
     def means(self, ask: Ask, arm: str) -> dict[str, dict[Any, float]]:
@@ -504,16 +487,10 @@ class Along(Rule):
 
 @dataclass(frozen=True)
 class Trend(Along):
-    """The curves of ``first`` and of each arm of ``seconds`` (``ratio``, ``gap``: of
-    ``first`` against ``second``, over the seeds both ran) fall or rise. ``kind``:
-    ``steps``, at every step (holds) or from the first point to the last (weakly), beside
-    ``paper`` (arm -> numbers); ``rank``, Spearman's rho beyond ``rho`` and the last point
-    beyond the first (``paired``: by the paired 95% CI of first - last; one of the two, or
-    that difference's mean, weakly); ``diminishing``, falling from the smallest key to the
-    largest (weakly) and at least as much up to the middle key as after (holds); ``ratio``,
-    the ratio of the means moves from the first point to the last (and ends beyond
-    ``bound``, if given; else weakly); ``gap``, the difference and the ratio shrink (the
-    difference only: weakly)."""
+    """The curves of ``first`` and of each of ``seconds`` (``ratio``, ``gap``: of ``first``
+    against ``second``, over the seeds both ran) fall or rise, in the way of ``kind`` that
+    :meth:`conditions` words: at each step, by rank, with diminishing returns, in ratio, in gap
+    (``paper``: arm -> the paper's numbers, shown beside ``steps``)."""
 
     kind: Literal["steps", "rank", "diminishing", "ratio", "gap"]
     direction: Literal["falls", "rises"] = "falls"
@@ -537,20 +514,19 @@ class Trend(Along):
 
     def conditions(self) -> tuple[str, str]:
         way, side = self.direction, "below" if self.direction == "falls" else "above"
-        ends = f"it ends {side} where it starts"
         rho = f"Spearman's rho {'<= -' if way == 'falls' else '>= '}{self.rho:g}"
+        if self.kind == "rank" and self.paired:
+            sure = f"first - last has a paired 95% CI {'above' if way == 'falls' else 'below'} 0"
+            return f"{rho} and {sure}", "one of the two holds, or that mean is above 0"
+        ends = f"it ends {side} where it starts"
         bound = f" and it ends {side} {self.bound:g}" if self.bound is not None else ""
-        words = {
+        return {
             "steps": (f"it {way} at every step", ends),
             "rank": (f"{rho} and {ends}", ""),
             "diminishing": ("it falls with diminishing returns", "it falls"),
             "ratio": (f"it {way}{bound}", f"it {way}" if bound else ""),
             "gap": ("both shrink", "the difference shrinks"),
-        }
-        if self.kind == "rank" and self.paired:
-            sure = f"first - last has a paired 95% CI {'above' if way == 'falls' else 'below'} 0"
-            return f"{rho} and {sure}", "one of the two holds, or that mean is above 0"
-        return words[self.kind]
+        }[self.kind]
 
     def _moves(self, a: float, b: float) -> bool:
         return b < a if self.direction == "falls" else b > a
@@ -560,45 +536,39 @@ class Trend(Along):
             yield from self._against(ask)
             return
         arms = [ask.first, *ask.seconds, *self.shown]
-        test = {"steps": self._steps, "rank": self._rank, "diminishing": self._diminishing}
         for arm in arms:
             for name, curve in self.curves(ask.values, arm).items():
                 if self.kind == "diminishing" and len(curve) < 2:
                     continue
-                grade, text = test[self.kind](arm, curve, ask)
+                grade, text = self._curve(arm, curve, ask)
                 label = f"`{arm}` {name}".strip() if len(arms) > 1 else name
                 yield Check(label, text, None if arm in self.shown else grade)
 
-    def _steps(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
-        means = [_mean(s) for s in curve.values()]
-        every = all(self._moves(a, b) for a, b in itertools.pairwise(means))
-        ends = len(means) > 1 and self._moves(means[0], means[-1])
+    def _curve(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
+        means = {x: _mean(s) for x, s in curve.items()}
+        m, text = list(means.values()), series_text(means, ask.digits)
+        if self.kind == "diminishing":
+            keys = sorted(means)
+            a, middle, z = (means[k] for k in (keys[0], keys[len(keys) // 2], keys[-1]))
+            return (HOLDS if a - middle >= middle - z else WEAK) if z < a else FAILS, text
+        ends = len(m) > 1 and self._moves(m[0], m[-1])
+        if self.kind == "rank":
+            rho, falls = spearman([float(x) for x in means], m), self.direction == "falls"
+            steep = rho <= -self.rho if falls else rho >= self.rho
+            text += f" (Spearman rho {fmt(rho, 2)}"
+            if not self.paired:
+                return (HOLDS if steep and ends else FAILS), text + ")"
+            xs = list(curve)
+            d = paired({"a": curve[xs[0]], "b": curve[xs[-1]]}, "a", "b")
+            sure, likely = (d.ci_low, d.mean) if falls else (-d.ci_high, -d.mean)
+            grade = HOLDS if steep and sure > 0 else WEAK if steep or likely > 0 else FAILS
+            return grade, f"{text}; first - last paired {_diff(d, ask.digits)})"
+        every = all(self._moves(a, b) for a, b in itertools.pairwise(m))
         paper = ", ".join(ask.fmt(p) for p in self.paper.get(arm, ()))
-        text = series_text(dict(zip(curve, means, strict=True)), ask.digits)
         text += f" (paper {paper})" if paper else ""
-        if len(means) > 1:
-            change = _ratio(means[-1], means[0])
-            text += f", {100 * (change - 1):+.0f}% first to last" if math.isfinite(change) else ""
+        if len(m) > 1 and math.isfinite(change := _ratio(m[-1], m[0])):
+            text += f", {100 * (change - 1):+.0f}% first to last"
         return (HOLDS if every and ends else WEAK if ends else FAILS), text
-
-    def _rank(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
-        xs, means = list(curve), [_mean(s) for s in curve.values()]
-        rho = spearman([float(x) for x in xs], means)
-        steep = rho <= -self.rho if self.direction == "falls" else rho >= self.rho
-        series = series_text(dict(zip(xs, means, strict=True)), ask.digits)
-        text = f"{series} (Spearman rho {fmt(rho, 2)}"
-        if not self.paired:
-            return (HOLDS if steep and self._moves(means[0], means[-1]) else FAILS), text + ")"
-        d = paired({"a": curve[xs[0]], "b": curve[xs[-1]]}, "a", "b")
-        sure, likely = (d.ci_low, d.mean) if self.direction == "falls" else (-d.ci_high, -d.mean)
-        grade = HOLDS if steep and sure > 0 else WEAK if steep or likely > 0 else FAILS
-        return grade, f"{text}; first - last paired {_diff(d, ask.digits)})"
-
-    def _diminishing(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
-        keys = sorted(curve)
-        a, middle, z = (_mean(curve[k]) for k in (keys[0], keys[len(keys) // 2], keys[-1]))
-        grade = (HOLDS if a - middle >= middle - z else WEAK) if z < a else FAILS
-        return grade, series_text({k: _mean(curve[k]) for k in curve}, ask.digits)
 
     def _against(self, ask: Ask) -> Iterator[Check]:
         second = self.curves(ask.values, ask.seconds[0])
@@ -665,10 +635,8 @@ class FallsLess(Along):
         arms = (ask.first, ask.seconds[0])
         curves = [self.means(ask, arm) for arm in arms]
         for name in dict.fromkeys(n for c in curves for n in c):
-            falls = [
-                c[name][min(c[name])] - c[name][max(c[name])] if c.get(name) else math.nan
-                for c in curves
-            ]
+            ms = [c.get(name) for c in curves]
+            falls = [m[min(m)] - m[max(m)] if m else math.nan for m in ms]
             text = f"`{arms[0]}` falls by {ask.fmt(falls[0])} vs `{arms[1]}` by {ask.fmt(falls[1])}"
             yield Check(name, text, HOLDS if falls[0] < falls[1] else FAILS)
 
@@ -699,15 +667,10 @@ class RisesAbove(Along):
 # ----------------------------------------------------- against the paper's numbers
 
 
-def _family_means(arms: Arms, prefix: str) -> dict[str, float]:
-    return {a: _mean(arms[a]) for a in family(arms, prefix)}
-
-
 @dataclass(frozen=True)
 class SignsAsPaper(Rule):
-    """In each cell ``(column,)`` the sign of Spearman rho(level, mean) along the
-    :func:`family` ``first`` (0 if ``|rho| < threshold``) is that of the paper's column
-    (``paper``: level -> column -> value)."""
+    """In each cell ``(column,)`` the sign of Spearman rho(level, mean) along the family ``first``
+    is that of the paper's column (``paper``: level -> column -> value)."""
 
     paper: Mapping[float, Mapping[str, float]]
     threshold: float
@@ -721,7 +684,8 @@ class SignsAsPaper(Rule):
         levels, rows = list(self.paper), list(self.paper.values())
         for column in rows[0] if rows else {}:
             theirs = trend_sign(levels, [row[column] for row in rows], self.threshold)
-            means = _family_means(ask.values.get((column,), {}), ask.first)
+            arms = ask.values.get((column,), {})
+            means = {a: _mean(arms[a]) for a in family(arms, ask.first)}
             ours = trend_sign([level(a) for a in means], list(means.values()), self.threshold)
             text = f"paper {theirs:+d}, ours {ours:+d}"
             yield Check(column, text, HOLDS if theirs == ours else FAILS)
@@ -743,7 +707,8 @@ class AtEnds(Rule):
         return f"mean {metric} of {self.column} along `{first} *`: {ends}"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
-        means = _family_means(ask.values.get((self.column,), {}), ask.first)
+        arms = ask.values.get((self.column,), {})
+        means = {a: _mean(arms[a]) for a in family(arms, ask.first)}
         if means:
             low, high = next(iter(means)), list(means)[-1]
             met = (means[low] >= self.high) + (means[high] <= self.low)
@@ -782,8 +747,7 @@ class NearPaper(Rule):
 
 @dataclass(frozen=True)
 class Verdict:
-    """One claim of the paper and whether our numbers agree (``evidence``: ours beside the
-    paper's)."""
+    """One claim of the paper and whether our numbers agree (``evidence``: ours, the paper's)."""
 
     claim: str
     outcome: Outcome
@@ -796,9 +760,8 @@ class Verdict:
 @dataclass(frozen=True)
 class Claim:
     """One claim of the paper and how it is judged: ``where`` in the paper (``"§IV"``), our
-    ``statement``, the paper's own ``sentence``, the ``metric`` (a key of the
-    :data:`Values` tables) and its label, the arms (the rule pools ``seconds`` with
-    ``second``), the rule, the decimals of its numbers."""
+    ``statement``, the paper's ``sentence``, the ``metric`` (a key of the tables) and its label,
+    the arms (``seconds`` pooled with ``second``), the rule, the decimals of its numbers."""
 
     id: str
     where: str
@@ -819,20 +782,17 @@ class Claim:
     def judge(self, tables: Mapping[str, Values]) -> Verdict:
         """The verdict from ``metric -> values``."""
         seconds = [a for a in (self.second, *self.seconds) if a]
-        outcome, text = self.rule.judge(
-            tables.get(self.metric, {}), self.first, seconds, self.digits
-        )
+        values = tables.get(self.metric, {})
+        outcome, text = self.rule.judge(values, self.first, seconds, self.digits)
         evidence = f'{self.metric_label}: {text}; paper: "{self.sentence}"'
         return Verdict(f"{self.where}: {self.statement}", outcome, evidence)
 
 
 @dataclass(frozen=True)
 class Interpretation:
-    """A named alternative reading of a sentence of the paper (``sentence``, with where it
-    stands; ``reading``: how it reads it, against the default), as run overrides: ``set``
-    overrides strategy parameters and ``scenario`` scenario settings (for instance
-    ``sharing``) of the runs whose strategy is in ``strategies`` (every run when empty);
-    the experiments it does not change are reused."""
+    """A named alternative ``reading`` of a ``sentence`` of the paper, as overrides of strategy
+    parameters (``set``) and scenario settings (``scenario``) of the runs of ``strategies``
+    (every run when empty); the experiments it does not change are reused."""
 
     name: str
     sentence: str
