@@ -13,6 +13,7 @@ import math
 import operator
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from statistics import median
 from typing import Any, ClassVar, Literal
 
 from mrexplore.experiments.stats import Summary, summarize_metric
@@ -71,8 +72,7 @@ def series_text(series: Mapping[Any, float], digits: int = 0) -> str:
 
 def lowest_arm(arms: Arms, among: Sequence[str]) -> str | None:
     """The arm of ``among`` with the lowest finite mean (ties: the first by name), or ``None``."""
-    means = {a: _mean(arms[a]) for a in among if a in arms}
-    finite = {a: m for a, m in means.items() if math.isfinite(m)}
+    finite = {a: m for a in among if a in arms and math.isfinite(m := _mean(arms[a]))}
     return min(finite, key=lambda a: (finite[a], a)) if finite else None
 
 
@@ -126,13 +126,13 @@ class Needs:
         return "partly" if any(t is not None and s >= t for t, s in partly) else "not reproduced"
 
     def words(self, strong: str, weak: str, item: str) -> str:
+        shares = {1.0: f"every {item}", 0.5: f"at least half of the {item}s", 0.0: f"one {item}"}
+
         def said(pair: tuple[float | None, float | None], joint: str) -> str:
             parts = [(t, w) for t, w in zip(pair, (strong, weak), strict=True) if t is not None]
-            return joint.join(f"{w} in {share(t)}" for t, w in parts)
-
-        def share(t: float) -> str:
-            words = {1.0: f"every {item}", 0.5: f"at least half of the {item}s"}
-            return words.get(t, f"at least {t:.0%} of the {item}s" if t else f"one {item}")
+            return joint.join(
+                f"{w} in {shares.get(t, f'at least {t:.0%} of the {item}s')}" for t, w in parts
+            )
 
         reproduced = said((self.holds, self.weakly), " and ")
         partly = said((self.partly_holds, self.partly_weakly), " or ")
@@ -185,9 +185,11 @@ class Rule:
     item: ClassVar[str] = "cell"
     grade_words: ClassVar[tuple[str, str]] = ("it holds", "")
     """What holds and what holds weakly (``""``: no weak grade), when the fields do not say."""
+    phrase: ClassVar[str] = ""
+    """What :meth:`what` says is compared: a format string of ``self`` and its arguments."""
 
     def what(self, first: str, second: str, metric: str) -> str:
-        raise NotImplementedError
+        return self.phrase.format(self=self, first=first, second=second, metric=metric)
 
     def conditions(self) -> tuple[str, str]:
         return self.grade_words
@@ -207,10 +209,8 @@ class Rule:
     def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
         checks = list(self.checks(Ask(values, first, tuple(seconds), digits)))
         blocks = [(k, list(g)) for k, g in itertools.groupby(checks, lambda c: c.block)]
-        text = " | ".join(
-            f"{name}: {self._block(part)}" if len(blocks) > 1 else self._block(part)
-            for name, part in blocks
-        )
+        named = len(blocks) > 1
+        text = " | ".join((f"{k}: " if named else "") + self._block(part) for k, part in blocks)
         if self.also:
             more = list(self.checks(Ask(values, self.also[0], self.also[1:], digits)))
             text += f"; `{self.also[0]}` vs `{self.also[1]}`: {self.tally(more)}"
@@ -284,16 +284,16 @@ class Cells(Rule):
         d = None if self.seeds == "unpaired" else paired({"a": x, "b": y}, "a", "b")
         return summarize_metric(list(x.values())), summarize_metric(list(y.values())), d
 
-    def arm(self, first: str) -> str:
-        words = {"": f"`{first}`", "each": f"each `{first} *` arm"}
-        return words.get(self.members, f"the highest-level `{first} *` arm")
-
-    def over(self) -> str:
+    def what(self, first: str, second: str, metric: str) -> str:
+        arm = f"the highest-level `{first} *` arm" if self.members == "top" else f"`{first}`"
+        arm = f"each `{first} *` arm" if self.members == "each" else arm
+        versus = f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
         at_least = f" (at least {self.min_seeds})" if self.min_seeds > 1 else ""
         seeds = {"common": f" over the seeds both ran{at_least}", "unpaired": " (seeds not paired)"}
         opposite = ", ".join(map(str, self.except_at))
         opposite = f" (the opposite where the last cell key is {opposite})" if opposite else ""
-        return f"{seeds.get(self.seeds, '')}, cell by cell{opposite}"
+        words = self.phrase.format(self=self, metric=metric, arm=arm, second=second, versus=versus)
+        return f"{words}{seeds.get(self.seeds, '')}, cell by cell{opposite}"
 
 
 @dataclass(frozen=True)
@@ -304,11 +304,7 @@ class Means(Cells):
     relation: str
     statistic: Literal["mean", "sd"] = "mean"
     summary: bool = False
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        versus = f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
-        compared = f"{self.statistic} {metric} of {self.arm(first)} {self.relation} that of"
-        return f"{compared} {versus}{self.over()}"
+    phrase: ClassVar = "{self.statistic} {metric} of {arm} {self.relation} that of {versus}"
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
         a, b = (getattr(s, self.statistic) for s in pair[:2])
@@ -318,8 +314,6 @@ class Means(Cells):
         return (HOLDS if _RELATIONS[self.relation](a, b) else FAILS), text
 
     def totals(self, checks: Sequence[Check]) -> list[str]:
-        from statistics import median
-
         pairs: list[Pair] = [c.data for c in checks]
         ds = [d for _, _, d in pairs if d is not None]
         out = []
@@ -344,10 +338,7 @@ class Paired(Cells):
     relation: Literal["<", ">", "="] = "<"
     tolerance: float = 0.1
     usual: ClassVar[Needs] = EVERY_WEAK
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        difference = f"paired difference of {metric}, {self.arm(first)} - `{second}`"
-        return f"{difference}, over the seeds both ran{self.over()}"
+    phrase: ClassVar = "paired difference of {metric}, {arm} - `{second}`, over the seeds both ran"
 
     def conditions(self) -> tuple[str, str]:
         if self.relation == "=":
@@ -379,9 +370,7 @@ class Ratio(Cells):
     paper: Mapping[CellKey, float] | None = None
     factor: float = 2.0
     digits: int = 2
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        return f"ratio of the mean {metric} of {self.arm(first)} to that of `{second}`{self.over()}"
+    phrase: ClassVar = "ratio of the mean {metric} of {arm} to that of `{second}`"
 
     def conditions(self) -> tuple[str, str]:
         bound = f"it is {self.relation} {self.bound:g}"
@@ -411,9 +400,7 @@ class Level(Rule):
     bound: float
     weak: float | None = None
     usual: ClassVar[Needs] = EVERY_WEAK
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        return f"mean {metric} of `{first}`, cell by cell"
+    phrase: ClassVar = "mean {metric} of `{first}`, cell by cell"
 
     def conditions(self) -> tuple[str, str]:
         weak = f"it is {self.relation} {self.weak:g}" if self.weak is not None else ""
@@ -576,8 +563,7 @@ class Trend(Along):
             points: dict[Any, tuple[float, float]] = {}
             for x, a in curve.items():
                 b = second.get(name, {}).get(x, {})
-                common = sorted(set(a) & set(b))
-                if common:
+                if common := sorted(set(a) & set(b)):
                     points[x] = (_mean({s: a[s] for s in common}), _mean({s: b[s] for s in common}))
             if len(points) < 2:
                 continue
@@ -724,9 +710,7 @@ class NearPaper(Rule):
     paper: Mapping[float, float]
     factor: float
     usual: ClassVar[Needs] = EVERY_WEAK
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        return f"mean {metric} of `{first} *` at the paper's levels"
+    phrase: ClassVar = "mean {metric} of `{first} *` at the paper's levels"
 
     def conditions(self) -> tuple[str, str]:
         within = f"each within a factor {self.factor:g} of the paper's"
@@ -824,10 +808,9 @@ def robustness_section(
     names = list(readings)
     lines = ["## Robustness to the readings of the paper", ""]
     lines += [
-        "Each claim judged under our default reading and under each interpretation "
-        "(the same rule; only the runs the interpretation changes differ). `robust`: "
-        "the same verdict under every reading; `fragile`: it changes, under the readings "
-        "named.",
+        "Each claim judged under our default reading and under each interpretation (the same "
+        "rule; only the runs the interpretation changes differ). `robust`: the same verdict "
+        "under every reading; `fragile`: it changes, under the readings named.",
         "",
     ]
     if len(names) < 2:
