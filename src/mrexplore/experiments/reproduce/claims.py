@@ -228,9 +228,8 @@ class Rule:
         """``holds in 3/4 cells``, and how many hold at least weakly if the rule grades so."""
         grades = [c.grade for c in checks]
         text = f"holds in {grades.count(HOLDS)}/{len(grades)} {self.item}s"
-        if not self.conditions()[1]:
-            return text
-        return f"{text}, at least weakly in {len(grades) - grades.count(FAILS)}/{len(grades)}"
+        weakly = f", at least weakly in {len(grades) - grades.count(FAILS)}/{len(grades)}"
+        return text + (weakly if self.conditions()[1] else "")
 
     def totals(self, checks: Sequence[Check]) -> list[str]:
         """Numbers over all the judged items, after the count."""
@@ -393,8 +392,7 @@ class Ratio(Cells):
 
 @dataclass(frozen=True)
 class Level(Rule):
-    """The mean of ``first`` ``relation`` ``bound`` in a cell holds, ``relation`` ``weak``
-    weakly; cells without a finite mean are left out."""
+    """The mean of ``first`` ``relation`` ``bound`` (holds) or ``weak`` (weakly), in each cell."""
 
     relation: str
     bound: float
@@ -420,8 +418,7 @@ class Level(Rule):
 
 @dataclass(frozen=True)
 class NotBelowAll(Rule):
-    """``first`` is not superior to the other arms: superior in a cell where the paired 95%
-    CI of ``first - second`` lies below 0 against every other arm."""
+    """In a cell, the paired 95% CI of ``first - second`` is not below 0 for every other arm."""
 
     def what(self, first: str, second: str, metric: str) -> str:
         test = f"the paired 95% CI of its {metric} minus that of each of `{second}` lies below 0"
@@ -583,8 +580,7 @@ class Trend(Along):
 
 @dataclass(frozen=True)
 class FallsFasterBelow(Along):
-    """Per curve of ``first`` (x: its key), the mean falls per unit of x from the smallest x
-    to ``at`` (the gain below, above 0) faster than from ``at`` to the largest (above)."""
+    """Per curve of ``first``, the mean falls faster per unit of x below ``at`` than above it."""
 
     at: float
     unit: str = "unit"
@@ -608,8 +604,7 @@ class FallsFasterBelow(Along):
 
 @dataclass(frozen=True)
 class FallsLess(Along):
-    """Per curve, the mean of ``first`` falls less from the smallest key to the largest than
-    that of ``second`` (a rise counts as less)."""
+    """Per curve, ``first``'s mean falls less from the first key to the last than ``second``'s."""
 
     grade_words: ClassVar = ("the fall of the first is smaller", "")
 
@@ -629,8 +624,7 @@ class FallsLess(Along):
 
 @dataclass(frozen=True)
 class RisesAbove(Along):
-    """Per curve of ``first``, the mean at every key above ``at`` exceeds that at the largest
-    key of at most ``at`` (for instance: a team does worse above seven robots)."""
+    """Per curve of ``first``, each mean above key ``at`` exceeds that at the last key up to it."""
 
     at: float
     usual: ClassVar[Needs] = SOME_WEAK
