@@ -90,6 +90,10 @@ def test_means_pool_every_compared_arm_in_blocks_and_mark_failures() -> None:
     assert Means("<").judge(values, "a", ["b"], 0)[0] == "partly"  # 1 of 2
     assert Means(">=").judge(values, "a", ["c"], 0)[0] == "not reproduced"  # 0 of 2
     assert Means("<").judge({}, "a", ["b"], 0) == ("not reproduced", "holds in 0/0 cells")
+    one_seed = {("m", 3): {"a": {1: 5.0}, "b": {1: 4.0}}}
+    assert Means("<=").judge(one_seed, "a", ["b"], 0)[1] == (
+        "holds in 0/1 cells; m/3r: 5 vs 4 (paired 1 [-, -], n 1) x"
+    )
     assert Means("<=").describe("a", "b / c", "T99") == (
         "mean T99 of `a` <= that of `b / c`, cell by cell; reproduced if it holds in every cell, "
         "partly if it holds in at least half of the cells"
@@ -506,6 +510,12 @@ def test_signs_as_the_papers_columns() -> None:
     )
     assert rule.judge(ours({"TPT": -1, "ES": 1, "B": 0}), "SR", [], 0)[0] == "partly"
     assert rule.judge(ours({"TPT": 1, "ES": 1, "B": 1}), "SR", [], 0)[0] == "not reproduced"
+    flat = {1.0: {"A": 9.0, "B": 1.0}, 2.0: {"A": 5.0, "B": 1.0}, 3.0: {"A": 1.0, "B": 1.0}}
+    one_arm = {("A",): {"SR 1": {1: 3.0}, "SR 2": {1: 2.0}}, ("B",): {"SR 1": {1: 3.0}}}
+    assert c.SignsAsPaper(flat, 0.3).judge(one_arm, "SR", [], 0) == (
+        "reproduced",  # a constant column and a single level: both 0
+        "holds in 2/2 columns; A: paper -1, ours -1; B: paper +0, ours +0",
+    )
     assert rule.describe("SR", "", "share").startswith(
         "sign of Spearman rho(level, mean share of `SR *`), 0 if |rho| < 0.3, column by column"
     )
@@ -555,6 +565,21 @@ def test_helpers_of_families_and_trends() -> None:
     assert c.spearman([1, 2, 3, 4], [1, 3, 2, 4]) == pytest.approx(0.8)
     assert math.isnan(c.spearman([1], [2])) and math.isnan(c.spearman([1, 2, 3], [5, 5, 5]))
     assert c.trend_sign([1, 2, 3, 4, 5], [4, 1, 3, 5, 2], 0.3) == 0  # rho = 0
+    assert c.trend_sign([1, 2, 3, 4], [4, 3, 2, 1], 0.3) == -1
+
+
+def test_helpers_of_numbers_and_arms() -> None:
+    assert (c.fmt(12345.678), c.fmt(0.25, 2), c.fmt(None), c.fmt(math.nan)) == (
+        "12 346",
+        "0.25",
+        "-",
+        "-",
+    )
+    assert c.paired({"a": {1: 5.0, 2: 7.0}, "b": {1: 4.0, 2: 4.0, 3: 1.0}}, "a", "b").mean == 2.0
+    assert c.series_text({4: 310.0, 8.0: 290.5}, 1) == "4:310.0, 8:290.5"
+    arms = {"b": {1: 2.0}, "a": {1: 2.0}, "c": {1: 1.0}, "d": {}}
+    assert c.lowest_arm(arms, ["a", "b", "d"]) == "a"  # ties: the first by name
+    assert c.lowest_arm(arms, ["d", "e"]) is None
 
 
 # --------------------------------------------------------- claims and readings

@@ -1,12 +1,9 @@
 """Claims of a paper as data: the sentence, the comparison, the rule that decides it.
 
-A :class:`Claim` names where in the paper it stands, the paper's sentence, the metric, the
-arms and a rule object that computes the verdict and writes the words that describe it, so
-report and code cannot drift apart. A :class:`Rule` grades items (cells, curves) *holds*,
-*weak* or *fails* from ``cell -> arm -> seed -> value`` (:data:`Values`), and
-:class:`Needs` counts the grades into the outcome. An :class:`Interpretation` is another
-reading of a sentence of the paper, as run overrides; :func:`robustness_section` shows
-whether each verdict stays the same under every reading.
+A :class:`Claim` pairs the paper's sentence with a :class:`Rule` that grades items (cells,
+curves) of :data:`Values` *holds*, *weak* or *fails* and writes the words of its verdict, so
+report and code cannot drift apart; :class:`Needs` counts the grades into the outcome. An
+:class:`Interpretation` is another reading of the paper (see :func:`robustness_section`).
 """
 
 from __future__ import annotations
@@ -16,6 +13,7 @@ import math
 import operator
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from statistics import median
 from typing import Any, ClassVar, Literal
 
 from mrexplore.experiments.stats import Summary, summarize_metric
@@ -24,11 +22,12 @@ CellKey = tuple[Any, ...]
 """A cell a claim is judged in, e.g. ``(map, robots)``."""
 BySeed = Mapping[int, float]
 Arms = Mapping[str, BySeed]
-"""One cell of :data:`Values`: ``arm -> seed -> value``."""
 Values = Mapping[CellKey, Arms]
 """``cell -> arm -> seed -> value``."""
 Outcome = Literal["reproduced", "partly", "not reproduced"]
 Judgement = tuple[Outcome, str]
+Pair = tuple[Summary, Summary, Summary | None]
+"""Two arms of one cell: each one's summary and, over the seeds both ran, ``a - b``."""
 HOLDS, WEAK, FAILS = 2, 1, 0
 """The grades of an item; ``None``: shown, not judged."""
 _MARKS = {HOLDS: "", WEAK: " (weak)", FAILS: " x", None: ""}
@@ -36,23 +35,14 @@ _RELATIONS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": opera
 
 
 def fmt(value: float | None, digits: int = 0) -> str:
-    """A number for a verdict line: ``digits`` decimals, thin-space thousands, ``-``
-    for a missing or non-finite value.
-
-    >>> fmt(12345.678), fmt(0.25, 2), fmt(None), fmt(float("nan"))
-    ('12 346', '0.25', '-', '-')
-    """
+    """A number for a verdict line: spaced thousands, ``-`` if missing or not finite."""
     if value is None or not math.isfinite(value):
         return "-"
     return f"{value:,.{digits}f}".replace(",", " ")
 
 
 def paired(by_seed: Arms, a: str, b: str) -> Summary:
-    """``A - B`` over the seeds both arms ran (mean, sd, 95% CI).
-
-    >>> paired({"a": {1: 5.0, 2: 7.0}, "b": {1: 4.0, 2: 4.0, 3: 1.0}}, "a", "b").mean
-    2.0
-    """
+    """``A - B`` over the seeds both arms ran (mean, sd, 95% CI)."""
     first, second = by_seed.get(a, {}), by_seed.get(b, {})
     return summarize_metric([first[s] - second[s] for s in sorted(set(first) & set(second))])
 
@@ -75,34 +65,19 @@ def _cell_name(cell: CellKey) -> str:
 
 
 def series_text(series: Mapping[Any, float], digits: int = 0) -> str:
-    """``x:mean, ...`` of one curve.
-
-    >>> series_text({4: 310.0, 8.0: 290.5}, 1)
-    '4:310.0, 8:290.5'
-    """
+    """``x:mean, ...`` of one curve."""
     name = lambda x: f"{x:g}" if isinstance(x, int | float) else str(x)  # noqa: E731
     return ", ".join(f"{name(x)}:{fmt(m, digits)}" for x, m in series.items())
 
 
 def lowest_arm(arms: Arms, among: Sequence[str]) -> str | None:
-    """The arm of ``among`` with the lowest mean (ties: the first by name), ``None``
-    when none has a finite mean.
-
-    >>> lowest_arm({"b": {1: 2.0}, "a": {1: 2.0}, "c": {1: 1.0}, "d": {}}, ["a", "b", "d"])
-    'a'
-    """
-    means = {a: _mean(arms[a]) for a in among if a in arms}
-    finite = {a: m for a, m in means.items() if math.isfinite(m)}
+    """The arm of ``among`` with the lowest finite mean (ties: the first by name), or ``None``."""
+    finite = {a: m for a in among if a in arms and math.isfinite(m := _mean(arms[a]))}
     return min(finite, key=lambda a: (finite[a], a)) if finite else None
 
 
 def family(arms: Mapping[str, Any], prefix: str) -> list[str]:
-    """The arms named ``<prefix> <number>`` (a parameter swept over arms: ``SR 0.1``,
-    ``SR 10``, ...), in the order of that number, their :func:`level`.
-
-    >>> family({"SR 10": {}, "full": {}, "SR 0.1": {}}, "SR")
-    ['SR 0.1', 'SR 10']
-    """
+    """The arms named ``<prefix> <number>`` (``SR 0.1``, ``SR 10``), by that :func:`level`."""
     return sorted((a for a in arms if a.startswith(f"{prefix} ")), key=level)
 
 
@@ -112,12 +87,7 @@ def level(arm: str) -> float:
 
 
 def spearman(x: Sequence[float], y: Sequence[float]) -> float:
-    """Spearman's rho over the finite pairs (average ranks for ties); nan for fewer than two
-    pairs or a constant side.
-
-    >>> spearman([1, 2, 3], [30, 20, 10]), spearman([1, 2], [5, 5])
-    (-1.0, nan)
-    """
+    """Spearman's rho over the finite pairs; nan for fewer than two or a constant side."""
     import numpy as np
     from scipy.stats import rankdata
 
@@ -129,11 +99,7 @@ def spearman(x: Sequence[float], y: Sequence[float]) -> float:
 
 
 def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
-    """+1 / -1 when ``y`` rises / falls with ``x`` (Spearman ``|rho| >= threshold``), else 0.
-
-    >>> trend_sign([1, 2, 3, 4], [4, 3, 2, 1], 0.3), trend_sign([1, 2, 3], [1, 1, 1], 0.3)
-    (-1, 0)
-    """
+    """+1 / -1 when ``y`` rises / falls with ``x`` (Spearman ``|rho| >= threshold``), else 0."""
     rho = spearman(x, y)
     return 0 if not abs(rho) >= threshold else (1 if rho > 0 else -1)
 
@@ -141,21 +107,10 @@ def trend_sign(x: Sequence[float], y: Sequence[float], threshold: float) -> int:
 # ------------------------------------------------------------ grades and outcomes
 
 
-def _share_words(share: float, item: str) -> str:
-    words = {1.0: f"every {item}", 0.5: f"at least half of the {item}s"}
-    return words.get(share, f"at least {share:.0%} of the {item}s" if share else f"one {item}")
-
-
 @dataclass(frozen=True)
 class Needs:
     """The shares of the judged items that must hold, and hold at least weakly: all that
-    are given for ``reproduced``, one of them for ``partly``; 0 means at least one item.
-
-    >>> Needs().outcome([HOLDS, FAILS]), Needs().outcome([HOLDS, FAILS, FAILS]), Needs().outcome([])
-    ('partly', 'not reproduced', 'not reproduced')
-    >>> SOME_WEAK.words("it holds", "it holds weakly", "cell")
-    'reproduced if it holds in every cell, partly if it holds weakly in one cell'
-    """
+    are given for ``reproduced``, one of them for ``partly``; 0 means at least one item."""
 
     holds: float | None = 1.0
     weakly: float | None = None
@@ -164,38 +119,34 @@ class Needs:
 
     def outcome(self, grades: Sequence[int]) -> Outcome:
         counts = (grades.count(HOLDS), len(grades) - grades.count(FAILS))
-
-        def met(share: float | None, count: int) -> bool:
-            return share is not None and count > 0 and count / len(grades) >= share
-
-        reproduced = zip((self.holds, self.weakly), counts, strict=True)
-        if all(t is None or met(t, c) for t, c in reproduced):
+        shares = [c / len(grades) if c else -1.0 for c in counts]  # -1: no item, below any share
+        if all(t is None or s >= t for t, s in zip((self.holds, self.weakly), shares, strict=True)):
             return "reproduced"
-        partly = zip((self.partly_holds, self.partly_weakly), counts, strict=True)
-        return "partly" if any(met(t, c) for t, c in partly) else "not reproduced"
+        partly = zip((self.partly_holds, self.partly_weakly), shares, strict=True)
+        return "partly" if any(t is not None and s >= t for t, s in partly) else "not reproduced"
 
     def words(self, strong: str, weak: str, item: str) -> str:
+        shares = {1.0: f"every {item}", 0.5: f"at least half of the {item}s", 0.0: f"one {item}"}
+
         def said(pair: tuple[float | None, float | None], joint: str) -> str:
-            parts = zip(pair, (strong, weak), strict=True)
-            return joint.join(f"{w} in {_share_words(t, item)}" for t, w in parts if t is not None)
+            parts = [(t, w) for t, w in zip(pair, (strong, weak), strict=True) if t is not None]
+            return joint.join(
+                f"{w} in {shares.get(t, f'at least {t:.0%} of the {item}s')}" for t, w in parts
+            )
 
         reproduced = said((self.holds, self.weakly), " and ")
         partly = said((self.partly_holds, self.partly_weakly), " or ")
         return f"reproduced if {reproduced}, partly if {partly}"
 
 
-EVERY_HALF = Needs()
-"""Reproduced if every item holds, partly if at least half do."""
-EVERY_WEAK = Needs(partly_holds=None, partly_weakly=1.0)
-"""Reproduced if every item holds, partly if every one holds at least weakly."""
-SOME_WEAK = Needs(partly_holds=None, partly_weakly=0.0)
-"""Reproduced if every item holds, partly if one holds at least weakly."""
+EVERY_HALF = Needs()  # reproduced if every item holds, partly if at least half do
+EVERY_WEAK = Needs(partly_holds=None, partly_weakly=1.0)  # partly: every one at least weakly
+SOME_WEAK = Needs(partly_holds=None, partly_weakly=0.0)  # partly: one at least weakly
 
 
 @dataclass(frozen=True)
 class Check:
-    """One judged item: its name, its numbers, its grade (``None``: shown, not judged), the
-    comparison it belongs to (``block``) when a rule makes several."""
+    """One judged item: its name, its numbers, its grade, the comparison (``block``) it is of."""
 
     name: str
     text: str
@@ -209,8 +160,7 @@ class Check:
 
 @dataclass(frozen=True)
 class Ask:
-    """What a rule judges: the values, the first arm and those it is compared with, the
-    decimals of the numbers shown."""
+    """What a rule judges: the values, the first arm, those it is compared with, the decimals."""
 
     values: Values
     first: str
@@ -224,9 +174,8 @@ class Ask:
 @dataclass(frozen=True, kw_only=True)
 class Rule:
     """Base of the rules: :meth:`checks` grades the items, :attr:`needs` (or :attr:`usual`)
-    counts them, :meth:`describe` says so from :meth:`what` and :meth:`conditions`.
-    ``shown``: arms shown beside, not judged; ``brief``: the evidence names only the items
-    that do not hold; ``also``: another pair of arms whose count is cited."""
+    counts them, :meth:`describe` says so. ``shown``: arms shown, not judged; ``brief``: name
+    only the items that do not hold; ``also``: another pair of arms whose count is cited."""
 
     needs: Needs | None = None
     shown: tuple[str, ...] = ()
@@ -236,9 +185,11 @@ class Rule:
     item: ClassVar[str] = "cell"
     grade_words: ClassVar[tuple[str, str]] = ("it holds", "")
     """What holds and what holds weakly (``""``: no weak grade), when the fields do not say."""
+    phrase: ClassVar[str] = ""
+    """What :meth:`what` says is compared: a format string of ``self`` and its arguments."""
 
     def what(self, first: str, second: str, metric: str) -> str:
-        raise NotImplementedError
+        return self.phrase.format(self=self, first=first, second=second, metric=metric)
 
     def conditions(self) -> tuple[str, str]:
         return self.grade_words
@@ -257,13 +208,9 @@ class Rule:
 
     def judge(self, values: Values, first: str, seconds: Sequence[str], digits: int) -> Judgement:
         checks = list(self.checks(Ask(values, first, tuple(seconds), digits)))
-        blocks: dict[str, list[Check]] = {}
-        for check in checks:
-            blocks.setdefault(check.block, []).append(check)
-        text = " | ".join(
-            f"{name}: {self._block(part)}" if len(blocks) > 1 else self._block(part)
-            for name, part in blocks.items()
-        )
+        blocks = [(k, list(g)) for k, g in itertools.groupby(checks, lambda c: c.block)]
+        named = len(blocks) > 1
+        text = " | ".join((f"{k}: " if named else "") + self._block(part) for k, part in blocks)
         if self.also:
             more = list(self.checks(Ask(values, self.also[0], self.also[1:], digits)))
             text += f"; `{self.also[0]}` vs `{self.also[1]}`: {self.tally(more)}"
@@ -281,9 +228,8 @@ class Rule:
         """``holds in 3/4 cells``, and how many hold at least weakly if the rule grades so."""
         grades = [c.grade for c in checks]
         text = f"holds in {grades.count(HOLDS)}/{len(grades)} {self.item}s"
-        if not self.conditions()[1]:
-            return text
-        return f"{text}, at least weakly in {len(grades) - grades.count(FAILS)}/{len(grades)}"
+        weakly = f", at least weakly in {len(grades) - grades.count(FAILS)}/{len(grades)}"
+        return text + (weakly if self.conditions()[1] else "")
 
     def totals(self, checks: Sequence[Check]) -> list[str]:
         """Numbers over all the judged items, after the count."""
@@ -293,23 +239,12 @@ class Rule:
 # ------------------------------------------------------------------ cell by cell
 
 
-@dataclass(frozen=True)
-class Pair:
-    """Two arms of one cell: each one's summary and, over the seeds both ran, ``a - b``."""
-
-    a: Summary
-    b: Summary
-    d: Summary | None
-
-
 @dataclass(frozen=True, kw_only=True)
 class Cells(Rule):
-    """Base of the rules that compare ``first`` with each arm of ``seconds`` (``best``: the
-    one with the lowest mean) cell by cell, leaving out cells without both. ``seeds``:
-    ``all`` (each arm over its seeds, the paired difference over those both ran), ``common``
-    (both over the seeds both ran, at least ``min_seeds``) or ``unpaired`` (no difference).
-    ``except_at``: last cell keys where the claim is the opposite. ``members``: ``first``
-    names a :func:`family`; compare ``each`` member or the ``top`` level."""
+    """Base of the rules comparing ``first`` with each of ``seconds`` (``best``: the lowest) cell
+    by cell. ``seeds``: ``all`` (the difference over the seeds both ran), ``common`` (all over
+    those, at least ``min_seeds``) or ``unpaired``; ``except_at``: last cell keys where the claim
+    is the opposite; ``members``: compare ``each`` or the ``top`` arm of the family ``first``."""
 
     seeds: Literal["all", "common", "unpaired"] = "all"
     min_seeds: int = 1
@@ -324,7 +259,8 @@ class Cells(Rule):
         for second in [""] if self.best else [*ask.seconds, *self.shown]:
             for cell, arms in ask.values.items():
                 other = second or lowest_arm(arms, ask.seconds) or ""
-                for arm in self._members(arms, ask.first):
+                members = family(arms, ask.first) if self.members else [ask.first]
+                for arm in members[-1:] if self.members == "top" else members:
                     pair = self._pair(arms, arm, other)
                     if pair is None:
                         continue
@@ -335,84 +271,55 @@ class Cells(Rule):
                     judged = None if second in self.shown else grade
                     yield Check(name, text, judged, f"vs `{second}`" if second else "", pair)
 
-    def _members(self, arms: Arms, first: str) -> list[str]:
-        found = family(arms, first) if self.members else [first]
-        return found[-1:] if self.members == "top" else found
-
     def _pair(self, arms: Arms, a: str, b: str) -> Pair | None:
         if a not in arms or b not in arms:
             return None
         x, y = arms[a], arms[b]
-        common = sorted(set(x) & set(y))
         if self.seeds == "common":
+            common = sorted(set(x) & set(y))
             if len(common) < max(self.min_seeds, 1):
                 return None
             x, y = ({s: v[s] for s in common} for v in (x, y))
-        d = summarize_metric([x[s] - y[s] for s in common])
-        mean_a, mean_b = (summarize_metric(list(v.values())) for v in (x, y))
-        return Pair(mean_a, mean_b, None if self.seeds == "unpaired" else d)
+        d = None if self.seeds == "unpaired" else paired({"a": x, "b": y}, "a", "b")
+        return summarize_metric(list(x.values())), summarize_metric(list(y.values())), d
 
-    def arm(self, first: str) -> str:
-        words = {"": f"`{first}`", "each": f"each `{first} *` arm"}
-        return words.get(self.members, f"the highest-level `{first} *` arm")
-
-    def over(self) -> str:
-        """How the cells are read, in words."""
+    def what(self, first: str, second: str, metric: str) -> str:
+        arm = f"the highest-level `{first} *` arm" if self.members == "top" else f"`{first}`"
+        arm = f"each `{first} *` arm" if self.members == "each" else arm
+        versus = f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
         at_least = f" (at least {self.min_seeds})" if self.min_seeds > 1 else ""
         seeds = {"common": f" over the seeds both ran{at_least}", "unpaired": " (seeds not paired)"}
         opposite = ", ".join(map(str, self.except_at))
         opposite = f" (the opposite where the last cell key is {opposite})" if opposite else ""
-        return f"{seeds.get(self.seeds, '')}, cell by cell{opposite}"
-
-    def versus(self, second: str) -> str:
-        return f"the lowest of `{second}` in each cell" if self.best else f"`{second}`"
+        words = self.phrase.format(self=self, metric=metric, arm=arm, second=second, versus=versus)
+        return f"{words}{seeds.get(self.seeds, '')}, cell by cell{opposite}"
 
 
 @dataclass(frozen=True)
 class Means(Cells):
-    """The mean (``statistic="sd"``: the sd) of ``first`` ``relation`` that of ``second``;
-    each cell shows the paired difference and its 95% CI (but ``unpaired``). ``summary``:
-    also how many CIs lie below / above 0 and the ratios' median and range.
-
-    >>> values = {("m", 2): {"a": {1: 1.0, 2: 3.0}, "b": {1: 2.0, 2: 4.0}},
-    ...           ("m", 3): {"a": {1: 5.0}, "b": {1: 4.0}}}
-    >>> Means("<=").judge(values, "a", ["b"], 0)
-    ('partly', 'holds in 1/2 cells; m/2r: 2 vs 3 (paired -1 [-1, -1], n 2); m/3r: 5 vs 4 \
-(paired 1 [-, -], n 1) x')
-    >>> print(Means("<", best=True, except_at=(3,)).describe("b", "a / c", "T99"))
-    mean T99 of `b` < that of the lowest of `a / c` in each cell, cell by cell (the opposite \
-where the last cell key is 3); reproduced if it holds in every cell, partly if it holds in at \
-least half of the cells
-    """
+    """The mean (or ``statistic="sd"``) of ``first`` ``relation`` that of ``second``; ``summary``:
+    also how many paired 95% CIs lie below / above 0 and the ratios' median and range."""
 
     relation: str
     statistic: Literal["mean", "sd"] = "mean"
     summary: bool = False
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        compared = f"{self.statistic} {metric} of {self.arm(first)} {self.relation} that of"
-        return f"{compared} {self.versus(second)}{self.over()}"
+    phrase: ClassVar = "{self.statistic} {metric} of {arm} {self.relation} that of {versus}"
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        a, b = getattr(pair.a, self.statistic), getattr(pair.b, self.statistic)
+        a, b = (getattr(s, self.statistic) for s in pair[:2])
         text = f"{ask.fmt(a)} vs {ask.fmt(b)}"
-        if pair.d is not None and self.statistic == "mean":
-            text += f" (paired {_diff(pair.d, ask.digits)})"
+        if pair[2] is not None and self.statistic == "mean":
+            text += f" (paired {_diff(pair[2], ask.digits)})"
         return (HOLDS if _RELATIONS[self.relation](a, b) else FAILS), text
 
     def totals(self, checks: Sequence[Check]) -> list[str]:
-        from statistics import median
-
         pairs: list[Pair] = [c.data for c in checks]
-        differences = [p.d for p in pairs if p.d is not None]
+        ds = [d for _, _, d in pairs if d is not None]
         out = []
-        if self.summary and self.statistic == "mean" and len(differences) == len(pairs):
-            below, above = (
-                sum(d.ci_high < 0 for d in differences),
-                sum(d.ci_low > 0 for d in differences),
-            )
+        if self.summary and self.statistic == "mean" and len(ds) == len(pairs):
+            below, above = sum(d.ci_high < 0 for d in ds), sum(d.ci_low > 0 for d in ds)
             out.append(f"paired 95% CI below 0 in {below}, above 0 in {above}")
-        of = [_ratio(getattr(p.a, self.statistic), getattr(p.b, self.statistic)) for p in pairs]
+        of = [_ratio(getattr(a, self.statistic), getattr(b, self.statistic)) for a, b, _ in pairs]
         ratios = {c.name: r for c, r in zip(checks, of, strict=True) if math.isfinite(r)}
         if self.summary and ratios:
             low, spread = min(ratios, key=ratios.__getitem__), sorted(ratios.values())
@@ -425,22 +332,12 @@ least half of the cells
 class Paired(Cells):
     """The paired difference ``first - second``: ``<`` its 95% CI below 0 holds, its mean
     below 0 weakly (``>``: above); ``=`` its mean within ``tolerance`` of the mean of
-    ``second`` and its CI holding 0 (or unknown: one seed) holds, one of the two weakly.
-
-    >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(6)},
-    ...                      "b": {s: 5.0 for s in range(6)}}}
-    >>> Paired("<").judge(values, "a", ["b"], 1)
-    ('reproduced', 'holds in 1/1 cells, at least weakly in 1/1; m/2r: 1.5 vs 5.0 (paired -3.5 \
-[-4.1, -2.9], n 6)')
-    """
+    ``second`` and its CI holding 0 (or unknown: one seed) holds, one of the two weakly."""
 
     relation: Literal["<", ">", "="] = "<"
     tolerance: float = 0.1
     usual: ClassVar[Needs] = EVERY_WEAK
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        difference = f"paired difference of {metric}, {self.arm(first)} - `{second}`"
-        return f"{difference}, over the seeds both ran{self.over()}"
+    phrase: ClassVar = "paired difference of {metric}, {arm} - `{second}`, over the seeds both ran"
 
     def conditions(self) -> tuple[str, str]:
         if self.relation == "=":
@@ -450,27 +347,21 @@ class Paired(Cells):
         return f"its 95% CI is {side} 0", f"its mean is {side} 0"
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        d = pair.d or summarize_metric([])
-        text = f"{ask.fmt(pair.a.mean)} vs {ask.fmt(pair.b.mean)} (paired {_diff(d, ask.digits)})"
+        a, b, d = pair[0], pair[1], pair[2] or summarize_metric([])
+        text = f"{ask.fmt(a.mean)} vs {ask.fmt(b.mean)} (paired {_diff(d, ask.digits)})"
         if self.relation == "=":
-            close, known = abs(d.mean) <= self.tolerance * pair.b.mean, math.isfinite(d.ci_low)
+            close, known = abs(d.mean) <= self.tolerance * b.mean, math.isfinite(d.ci_low)
             zero_in = not known or d.ci_low <= 0 <= d.ci_high
             grade = HOLDS if close and zero_in else WEAK if close or (known and zero_in) else FAILS
-            return grade if math.isfinite(d.mean + pair.b.mean) else FAILS, text
+            return grade if math.isfinite(d.mean + b.mean) else FAILS, text
         sure, likely = (d.ci_high, d.mean) if self.relation == "<" else (-d.ci_low, -d.mean)
         return (HOLDS if sure < 0 else WEAK if likely < 0 else FAILS), text
 
 
 @dataclass(frozen=True)
 class Ratio(Cells):
-    """The ratio of the means ``first / second`` ``relation`` ``bound`` holds, ``relation``
-    ``weak`` weakly; with ``paper`` (cell -> the paper's ratio) it holds only if also
-    within ``factor`` of the paper's, else weakly. ``digits``: of the ratios.
-
-    >>> values = {("m", n): {"a": {1: 10.0 + n}, "b": {1: 10.0}} for n in (1, 5)}
-    >>> Ratio("<=", 1.25).judge(values, "a", ["b"], 0)[1]
-    'holds in 1/2 cells; m/1r: 11 vs 10 (ratio 1.10); m/5r: 15 vs 10 (ratio 1.50) x'
-    """
+    """The ratio of the means ``first / second`` ``relation`` ``bound`` (holds) or ``weak``
+    (weakly); with ``paper`` (cell -> ratio) it holds only if also within ``factor`` of it."""
 
     relation: str
     bound: float
@@ -478,9 +369,7 @@ class Ratio(Cells):
     paper: Mapping[CellKey, float] | None = None
     factor: float = 2.0
     digits: int = 2
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        return f"ratio of the mean {metric} of {self.arm(first)} to that of `{second}`{self.over()}"
+    phrase: ClassVar = "ratio of the mean {metric} of {arm} to that of `{second}`"
 
     def conditions(self) -> tuple[str, str]:
         bound = f"it is {self.relation} {self.bound:g}"
@@ -489,8 +378,9 @@ class Ratio(Cells):
         return bound, f"it is {self.relation} {self.weak:g}" if self.weak is not None else ""
 
     def grade(self, pair: Pair, cell: CellKey, ask: Ask) -> tuple[int, str]:
-        holds, r = _RELATIONS[self.relation], _ratio(pair.a.mean, pair.b.mean)
-        text = f"{ask.fmt(pair.a.mean)} vs {ask.fmt(pair.b.mean)} (ratio {fmt(r, self.digits)}"
+        a, b = pair[0].mean, pair[1].mean
+        holds, r = _RELATIONS[self.relation], _ratio(a, b)
+        text = f"{ask.fmt(a)} vs {ask.fmt(b)} (ratio {fmt(r, self.digits)}"
         if self.paper is None:
             weak = self.weak is not None and holds(r, self.weak)
             return (HOLDS if holds(r, self.bound) else WEAK if weak else FAILS), text + ")"
@@ -502,22 +392,13 @@ class Ratio(Cells):
 
 @dataclass(frozen=True)
 class Level(Rule):
-    """The mean of ``first`` ``relation`` ``bound`` in a cell holds, ``relation`` ``weak``
-    weakly; cells without a finite mean are left out.
-
-    >>> values = {("m", 2): {"a": {1: 0.95}, "b": {1: 0.2}}, ("m", 4): {"a": {1: 0.9}}}
-    >>> Level(">=", 0.95, 0.8, shown=("b",)).judge(values, "a", [], 2)
-    ('partly', '`a`: holds in 1/2 cells, at least weakly in 2/2; m/2r: 0.95; m/4r: 0.90 (weak) \
-| `b`: m/2r: 0.20')
-    """
+    """The mean of ``first`` ``relation`` ``bound`` (holds) or ``weak`` (weakly), in each cell."""
 
     relation: str
     bound: float
     weak: float | None = None
     usual: ClassVar[Needs] = EVERY_WEAK
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        return f"mean {metric} of `{first}`, cell by cell"
+    phrase: ClassVar = "mean {metric} of `{first}`, cell by cell"
 
     def conditions(self) -> tuple[str, str]:
         weak = f"it is {self.relation} {self.weak:g}" if self.weak is not None else ""
@@ -537,15 +418,7 @@ class Level(Rule):
 
 @dataclass(frozen=True)
 class NotBelowAll(Rule):
-    """``first`` is not superior to the other arms: superior in a cell where the paired 95%
-    CI of ``first - second`` lies below 0 against every other arm.
-
-    >>> far = {s: 5.0 + s % 2 for s in range(4)}
-    >>> values = {("m", 2): {"a": {s: 1.0 + s % 2 for s in range(4)}, "b": far, "c": far},
-    ...           ("m", 4): {"a": far, "b": far, "c": far}}
-    >>> NotBelowAll(brief=True).judge(values, "a", ["b", "c"], 0)
-    ('partly', 'holds in 1/2 cells; fails in m/2r: `b` -4 [-4, -4], n 4; `c` -4 [-4, -4], n 4 x')
-    """
+    """In a cell, the paired 95% CI of ``first - second`` is not below 0 for every other arm."""
 
     def what(self, first: str, second: str, metric: str) -> str:
         test = f"the paired 95% CI of its {metric} minus that of each of `{second}` lies below 0"
@@ -565,10 +438,9 @@ class NotBelowAll(Rule):
 
 @dataclass(frozen=True, kw_only=True)
 class Along(Rule):
-    """Base of the rules that follow curves: ``along`` the last cell key (a curve per group
-    of the other keys), the ``cells`` in the caller's order (one curve), or the levels of
-    the :func:`family` ``first`` (a curve per cell); ``within``: the cells whose key starts
-    with these parts only."""
+    """Base of the rules that follow curves ``along`` the last cell key (one per group of the other
+    keys), the ``cells`` (one), or the levels of the :func:`family` ``first`` (one per cell),
+    in the cells whose key starts with ``within``."""
 
     along: Literal["key", "cells", "family"] = "key"
     within: CellKey = ()
@@ -583,10 +455,8 @@ class Along(Rule):
             if self.along == "family" and family(arms, arm):
                 out[_cell_name(cell)] = {level(a): arms[a] for a in family(arms, arm)}
             elif self.along != "family" and arm in arms:
-                group, x = (
-                    ((), _cell_name(cell)) if self.along == "cells" else (cell[:-1], cell[-1])
-                )
-                out.setdefault("/".join(map(str, group)), {})[x] = arms[arm]
+                key = ((), _cell_name(cell)) if self.along == "cells" else (cell[:-1], cell[-1])
+                out.setdefault("/".join(map(str, key[0])), {})[key[1]] = arms[arm]
         return out
 
     def means(self, ask: Ask, arm: str) -> dict[str, dict[Any, float]]:
@@ -599,32 +469,12 @@ class Along(Rule):
         return axes.get(self.along, f"the level of `{first} *`, cell by cell")
 
 
-def _moves(direction: str, a: float, b: float) -> bool:
-    return b < a if direction == "falls" else b > a
-
-
 @dataclass(frozen=True)
 class Trend(Along):
-    """The curves of ``first`` and of each arm of ``seconds`` (``ratio``, ``gap``: of
-    ``first`` against ``second``, over the seeds both ran) fall or rise. ``kind``:
-    ``steps``, at every step (holds) or from the first point to the last (weakly), beside
-    ``paper`` (arm -> numbers); ``rank``, Spearman's rho beyond ``rho`` and the last point
-    beyond the first (``paired``: by the paired 95% CI of first - last; one of the two, or
-    that difference's mean, weakly); ``diminishing``, falling from the smallest key to the
-    largest (weakly) and at least as much up to the middle key as after (holds); ``ratio``,
-    the ratio of the means moves from the first point to the last (and ends beyond
-    ``bound``, if given; else weakly); ``gap``, the difference and the ratio shrink (the
-    difference only: weakly).
-
-    >>> values = {("m", n): {"a": {1: 9 / n}, "b": {1: b}} for n, b in ((1, 8), (2, 6), (3, 7))}
-    >>> Trend("steps", needs=EVERY_WEAK).judge(values, "a", ["b"], 0)[1]
-    'holds in 1/2 curves, at least weakly in 2/2; `a` m: 1:9, 2:4, 3:3, -67% first to last; \
-`b` m: 1:8, 2:6, 3:7, -12% first to last (weak)'
-    >>> Trend("rank").judge(values, "b", [], 0)
-    ('not reproduced', 'holds in 0/1 curves; m: 1:8, 2:6, 3:7 (Spearman rho -0.50) x')
-    >>> Trend("gap").judge(values, "a", ["b"], 0)[1]
-    'holds in 1/1 curves, at least weakly in 1/1; m: 1: 1 (x1.12) -> 3: -4 (x0.43)'
-    """
+    """The curves of ``first`` and of each of ``seconds`` (``ratio``, ``gap``: of ``first``
+    against ``second``, over the seeds both ran) fall or rise, in the way of ``kind`` that
+    :meth:`conditions` words: at each step, by rank, with diminishing returns, in ratio, in gap
+    (``paper``: arm -> the paper's numbers, shown beside ``steps``)."""
 
     kind: Literal["steps", "rank", "diminishing", "ratio", "gap"]
     direction: Literal["falls", "rises"] = "falls"
@@ -648,66 +498,61 @@ class Trend(Along):
 
     def conditions(self) -> tuple[str, str]:
         way, side = self.direction, "below" if self.direction == "falls" else "above"
-        ends = f"it ends {side} where it starts"
         rho = f"Spearman's rho {'<= -' if way == 'falls' else '>= '}{self.rho:g}"
+        if self.kind == "rank" and self.paired:
+            sure = f"first - last has a paired 95% CI {'above' if way == 'falls' else 'below'} 0"
+            return f"{rho} and {sure}", "one of the two holds, or that mean is above 0"
+        ends = f"it ends {side} where it starts"
         bound = f" and it ends {side} {self.bound:g}" if self.bound is not None else ""
-        words = {
+        return {
             "steps": (f"it {way} at every step", ends),
             "rank": (f"{rho} and {ends}", ""),
             "diminishing": ("it falls with diminishing returns", "it falls"),
             "ratio": (f"it {way}{bound}", f"it {way}" if bound else ""),
             "gap": ("both shrink", "the difference shrinks"),
-        }
-        if self.kind == "rank" and self.paired:
-            sure = f"first - last has a paired 95% CI {'above' if way == 'falls' else 'below'} 0"
-            return f"{rho} and {sure}", "one of the two holds, or that mean is above 0"
-        return words[self.kind]
+        }[self.kind]
+
+    def _moves(self, a: float, b: float) -> bool:
+        return b < a if self.direction == "falls" else b > a
 
     def checks(self, ask: Ask) -> Iterator[Check]:
         if self.kind in ("ratio", "gap"):
             yield from self._against(ask)
             return
         arms = [ask.first, *ask.seconds, *self.shown]
-        test = {"steps": self._steps, "rank": self._rank, "diminishing": self._diminishing}
         for arm in arms:
             for name, curve in self.curves(ask.values, arm).items():
                 if self.kind == "diminishing" and len(curve) < 2:
                     continue
-                grade, text = test[self.kind](arm, curve, ask)
+                grade, text = self._curve(arm, curve, ask)
                 label = f"`{arm}` {name}".strip() if len(arms) > 1 else name
                 yield Check(label, text, None if arm in self.shown else grade)
 
-    def _steps(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
-        means = [_mean(s) for s in curve.values()]
-        every = all(_moves(self.direction, a, b) for a, b in itertools.pairwise(means))
-        ends = len(means) > 1 and _moves(self.direction, means[0], means[-1])
+    def _curve(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
+        means = {x: _mean(s) for x, s in curve.items()}
+        m, text = list(means.values()), series_text(means, ask.digits)
+        if self.kind == "diminishing":
+            keys = sorted(means)
+            a, middle, z = (means[k] for k in (keys[0], keys[len(keys) // 2], keys[-1]))
+            return (HOLDS if a - middle >= middle - z else WEAK) if z < a else FAILS, text
+        ends = len(m) > 1 and self._moves(m[0], m[-1])
+        if self.kind == "rank":
+            rho, falls = spearman([float(x) for x in means], m), self.direction == "falls"
+            steep = rho <= -self.rho if falls else rho >= self.rho
+            text += f" (Spearman rho {fmt(rho, 2)}"
+            if not self.paired:
+                return (HOLDS if steep and ends else FAILS), text + ")"
+            xs = list(curve)
+            d = paired({"a": curve[xs[0]], "b": curve[xs[-1]]}, "a", "b")
+            sure, likely = (d.ci_low, d.mean) if falls else (-d.ci_high, -d.mean)
+            grade = HOLDS if steep and sure > 0 else WEAK if steep or likely > 0 else FAILS
+            return grade, f"{text}; first - last paired {_diff(d, ask.digits)})"
+        every = all(self._moves(a, b) for a, b in itertools.pairwise(m))
         paper = ", ".join(ask.fmt(p) for p in self.paper.get(arm, ()))
-        text = series_text(dict(zip(curve, means, strict=True)), ask.digits)
         text += f" (paper {paper})" if paper else ""
-        if len(means) > 1:
-            change = _ratio(means[-1], means[0])
-            text += f", {100 * (change - 1):+.0f}% first to last" if math.isfinite(change) else ""
+        if len(m) > 1 and math.isfinite(change := _ratio(m[-1], m[0])):
+            text += f", {100 * (change - 1):+.0f}% first to last"
         return (HOLDS if every and ends else WEAK if ends else FAILS), text
-
-    def _rank(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
-        xs, means = list(curve), [_mean(s) for s in curve.values()]
-        rho = spearman([float(x) for x in xs], means)
-        steep = rho <= -self.rho if self.direction == "falls" else rho >= self.rho
-        series = series_text(dict(zip(xs, means, strict=True)), ask.digits)
-        text = f"{series} (Spearman rho {fmt(rho, 2)}"
-        if not self.paired:
-            ends = _moves(self.direction, means[0], means[-1])
-            return (HOLDS if steep and ends else FAILS), text + ")"
-        d = paired({"a": curve[xs[0]], "b": curve[xs[-1]]}, "a", "b")
-        sure, likely = (d.ci_low, d.mean) if self.direction == "falls" else (-d.ci_high, -d.mean)
-        grade = HOLDS if steep and sure > 0 else WEAK if steep or likely > 0 else FAILS
-        return grade, f"{text}; first - last paired {_diff(d, ask.digits)})"
-
-    def _diminishing(self, arm: str, curve: Mapping[Any, BySeed], ask: Ask) -> tuple[int, str]:
-        keys = sorted(curve)
-        a, middle, z = (_mean(curve[k]) for k in (keys[0], keys[len(keys) // 2], keys[-1]))
-        grade = (HOLDS if a - middle >= middle - z else WEAK) if z < a else FAILS
-        return grade, series_text({k: _mean(curve[k]) for k in curve}, ask.digits)
 
     def _against(self, ask: Ask) -> Iterator[Check]:
         second = self.curves(ask.values, ask.seconds[0])
@@ -715,35 +560,27 @@ class Trend(Along):
             points: dict[Any, tuple[float, float]] = {}
             for x, a in curve.items():
                 b = second.get(name, {}).get(x, {})
-                common = sorted(set(a) & set(b))
-                if common:
+                if common := sorted(set(a) & set(b)):
                     points[x] = (_mean({s: a[s] for s in common}), _mean({s: b[s] for s in common}))
-            if len(points) >= 2:
-                yield Check(name, *self._ratios(points, ask))
-
-    def _ratios(self, points: Mapping[Any, tuple[float, float]], ask: Ask) -> tuple[str, int]:
-        ratios = {x: _ratio(a, b) for x, (a, b) in points.items()}
-        (x0, r0), (x1, r1) = next(iter(ratios.items())), list(ratios.items())[-1]
-        if self.kind == "ratio":
-            moves = _moves(self.direction, r0, r1)
-            bound = self.bound is None or _moves(self.direction, self.bound, r1)
-            grade = HOLDS if moves and bound else WEAK if moves else FAILS
-            return series_text(ratios, self.digits), grade
-        (a0, b0), (a1, b1) = points[x0], points[x1]
-        text = f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
-        text += f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
-        return text, ((HOLDS if r1 < r0 else WEAK) if a1 - b1 < a0 - b0 else FAILS)
+            if len(points) < 2:
+                continue
+            ratios = {x: _ratio(a, b) for x, (a, b) in points.items()}
+            (x0, r0), *_, (x1, r1) = ratios.items()
+            if self.kind == "ratio":
+                moves = self._moves(r0, r1)
+                bound = self.bound is None or self._moves(self.bound, r1)
+                grade = HOLDS if moves and bound else WEAK if moves else FAILS
+                yield Check(name, series_text(ratios, self.digits), grade)
+                continue
+            (a0, b0), (a1, b1) = points[x0], points[x1]
+            text = f"{x0}: {ask.fmt(a0 - b0)} (x{fmt(r0, self.digits)}) -> "
+            text += f"{x1}: {ask.fmt(a1 - b1)} (x{fmt(r1, self.digits)})"
+            yield Check(name, text, (HOLDS if r1 < r0 else WEAK) if a1 - b1 < a0 - b0 else FAILS)
 
 
 @dataclass(frozen=True)
 class FallsFasterBelow(Along):
-    """Per curve of ``first`` (x: its key), the mean falls per unit of x from the smallest x
-    to ``at`` (the gain below, above 0) faster than from ``at`` to the largest (above).
-
-    >>> values = {("t", x): {"a": {1: m}} for x, m in ((4, 400.0), (16, 280.0), (24, 272.0))}
-    >>> FallsFasterBelow(16, "cell").judge(values, "a", [], 2)
-    ('reproduced', 'holds in 1/1 curves; t: 10.00 per cell below 16 vs 1.00 above')
-    """
+    """Per curve of ``first``, the mean falls faster per unit of x below ``at`` than above it."""
 
     at: float
     unit: str = "unit"
@@ -751,11 +588,8 @@ class FallsFasterBelow(Along):
 
     def what(self, first: str, second: str, metric: str) -> str:
         at = f"{self.at:g}"
-        below, above = (
-            f"(m(x_min) - m({at})) / ({at} - x_min)",
-            f"(m({at}) - m(x_max)) / (x_max - {at})",
-        )
-        gains = f"gain per {self.unit} below {at} = {below}, above = {above}"
+        gains = f"gain per {self.unit} below {at} = (m(x_min) - m({at})) / ({at} - x_min), "
+        gains += f"above = (m({at}) - m(x_max)) / (x_max - {at})"
         return f"mean {metric} of `{first}` against {self.axis(first)}, x the key: {gains}"
 
     def checks(self, ask: Ask) -> Iterator[Check]:
@@ -770,13 +604,7 @@ class FallsFasterBelow(Along):
 
 @dataclass(frozen=True)
 class FallsLess(Along):
-    """Per curve, the mean of ``first`` falls less from the smallest key to the largest than
-    that of ``second`` (a rise counts as less).
-
-    >>> values = {("t", x): {"a": {1: a}, "b": {1: b}} for x, a, b in ((4, 30, 34), (8, 29, 30))}
-    >>> FallsLess().judge(values, "a", ["b"], 0)
-    ('reproduced', 'holds in 1/1 curves; t: `a` falls by 1 vs `b` by 4')
-    """
+    """Per curve, ``first``'s mean falls less from the first key to the last than ``second``'s."""
 
     grade_words: ClassVar = ("the fall of the first is smaller", "")
 
@@ -788,23 +616,15 @@ class FallsLess(Along):
         arms = (ask.first, ask.seconds[0])
         curves = [self.means(ask, arm) for arm in arms]
         for name in dict.fromkeys(n for c in curves for n in c):
-            falls = [
-                c[name][min(c[name])] - c[name][max(c[name])] if c.get(name) else math.nan
-                for c in curves
-            ]
+            ms = [c.get(name) for c in curves]
+            falls = [m[min(m)] - m[max(m)] if m else math.nan for m in ms]
             text = f"`{arms[0]}` falls by {ask.fmt(falls[0])} vs `{arms[1]}` by {ask.fmt(falls[1])}"
             yield Check(name, text, HOLDS if falls[0] < falls[1] else FAILS)
 
 
 @dataclass(frozen=True)
 class RisesAbove(Along):
-    """Per curve of ``first``, the mean at every key above ``at`` exceeds that at the largest
-    key of at most ``at`` (for instance: a team does worse above seven robots).
-
-    >>> values = {("s", 1, n): {"a": {1: t}} for n, t in ((6, 30.0), (7, 25.0), (8, 26.0))}
-    >>> RisesAbove(7, within=("s",)).judge(values, "a", [], 0)
-    ('reproduced', 'holds in 1/1 curves; s/1: 25 at 7, 26 at 8')
-    """
+    """Per curve of ``first``, each mean above key ``at`` exceeds that at the last key up to it."""
 
     at: float
     usual: ClassVar[Needs] = SOME_WEAK
@@ -820,9 +640,8 @@ class RisesAbove(Along):
             ref = max((k for k in means if k <= self.at), default=None)
             if ref is not None and above:
                 shown = ", ".join(f"{ask.fmt(means[k])} at {k}" for k in [ref, *above])
-                yield Check(
-                    name, shown, HOLDS if all(means[k] > means[ref] for k in above) else FAILS
-                )
+                grade = HOLDS if all(means[k] > means[ref] for k in above) else FAILS
+                yield Check(name, shown, grade)
 
 
 # ----------------------------------------------------- against the paper's numbers
@@ -830,15 +649,8 @@ class RisesAbove(Along):
 
 @dataclass(frozen=True)
 class SignsAsPaper(Rule):
-    """In each cell ``(column,)`` the sign of Spearman rho(level, mean) along the
-    :func:`family` ``first`` (0 if ``|rho| < threshold``) is that of the paper's column
-    (``paper``: level -> column -> value).
-
-    >>> paper = {1.0: {"A": 9.0, "B": 1.0}, 2.0: {"A": 5.0, "B": 1.0}, 3.0: {"A": 1.0, "B": 1.0}}
-    >>> ours = {("A",): {"SR 1": {1: 3.0}, "SR 2": {1: 2.0}}, ("B",): {"SR 1": {1: 3.0}}}
-    >>> SignsAsPaper(paper, 0.3).judge(ours, "SR", [], 0)
-    ('reproduced', 'holds in 2/2 columns; A: paper -1, ours -1; B: paper +0, ours +0')
-    """
+    """In each cell ``(column,)`` the sign of Spearman rho(level, mean) along the family ``first``
+    is that of the paper's column (``paper``: level -> column -> value)."""
 
     paper: Mapping[float, Mapping[str, float]]
     threshold: float
@@ -855,19 +667,14 @@ class SignsAsPaper(Rule):
             arms = ask.values.get((column,), {})
             means = {a: _mean(arms[a]) for a in family(arms, ask.first)}
             ours = trend_sign([level(a) for a in means], list(means.values()), self.threshold)
-            yield Check(
-                column, f"paper {theirs:+d}, ours {ours:+d}", HOLDS if theirs == ours else FAILS
-            )
+            text = f"paper {theirs:+d}, ours {ours:+d}"
+            yield Check(column, text, HOLDS if theirs == ours else FAILS)
 
 
 @dataclass(frozen=True)
 class AtEnds(Rule):
     """In cell ``(column,)``, the mean of the :func:`family` ``first`` is at least ``high`` at
-    its lowest level and at most ``low`` at its highest: both hold, one weakly.
-
-    >>> AtEnds("TPT", 20, 5).judge({("TPT",): {"SR 1": {1: 30.0}, "SR 9": {1: 8.0}}}, "SR", [], 1)
-    ('partly', 'holds in 0/1 cells, at least weakly in 1/1; TPT: SR 1 30.0, SR 9 8.0 (weak)')
-    """
+    its lowest level and at most ``low`` at its highest: both hold, one weakly."""
 
     column: str
     high: float
@@ -892,19 +699,12 @@ class AtEnds(Rule):
 @dataclass(frozen=True)
 class NearPaper(Rule):
     """Per cell, the means of the :func:`family` ``first`` at the paper's levels (``paper``:
-    level -> value) fall strictly (weakly) and each is within ``factor`` of the paper's.
-
-    >>> values = {("m", 3): {"SR 1": {1: 9.0}, "SR 10": {1: 3.0}}}
-    >>> NearPaper({1.0: 8.0, 10.0: 1.0}, 2).judge(values, "SR", [], 1)
-    ('partly', 'holds in 0/1 cells, at least weakly in 1/1; m/3r: SR 1 9.0, SR 10 3.0 (weak)')
-    """
+    level -> value) fall strictly (weakly) and each is within ``factor`` of the paper's."""
 
     paper: Mapping[float, float]
     factor: float
     usual: ClassVar[Needs] = EVERY_WEAK
-
-    def what(self, first: str, second: str, metric: str) -> str:
-        return f"mean {metric} of `{first} *` at the paper's levels"
+    phrase: ClassVar = "mean {metric} of `{first} *` at the paper's levels"
 
     def conditions(self) -> tuple[str, str]:
         within = f"each within a factor {self.factor:g} of the paper's"
@@ -925,8 +725,7 @@ class NearPaper(Rule):
 
 @dataclass(frozen=True)
 class Verdict:
-    """One claim of the paper and whether our numbers agree (``evidence``: ours beside the
-    paper's)."""
+    """One claim of the paper and whether our numbers agree (``evidence``: ours, the paper's)."""
 
     claim: str
     outcome: Outcome
@@ -939,9 +738,8 @@ class Verdict:
 @dataclass(frozen=True)
 class Claim:
     """One claim of the paper and how it is judged: ``where`` in the paper (``"§IV"``), our
-    ``statement``, the paper's own ``sentence``, the ``metric`` (a key of the
-    :data:`Values` tables) and its label, the arms (the rule pools ``seconds`` with
-    ``second``), the rule, the decimals of its numbers."""
+    ``statement``, the paper's ``sentence``, the ``metric`` (a key of the tables) and its label,
+    the arms (``seconds`` pooled with ``second``), the rule, the decimals of its numbers."""
 
     id: str
     where: str
@@ -956,27 +754,23 @@ class Claim:
     seconds: tuple[str, ...] = ()
 
     def rule_text(self) -> str:
-        """The rule in words, for the report's rule list."""
         second = " / ".join(a for a in (self.second, *self.seconds) if a)
         return self.rule.describe(self.first, second, self.metric_label)
 
     def judge(self, tables: Mapping[str, Values]) -> Verdict:
         """The verdict from ``metric -> values``."""
         seconds = [a for a in (self.second, *self.seconds) if a]
-        outcome, text = self.rule.judge(
-            tables.get(self.metric, {}), self.first, seconds, self.digits
-        )
+        values = tables.get(self.metric, {})
+        outcome, text = self.rule.judge(values, self.first, seconds, self.digits)
         evidence = f'{self.metric_label}: {text}; paper: "{self.sentence}"'
         return Verdict(f"{self.where}: {self.statement}", outcome, evidence)
 
 
 @dataclass(frozen=True)
 class Interpretation:
-    """A named alternative reading of a sentence of the paper (``sentence``, with where it
-    stands; ``reading``: how it reads it, against the default), as run overrides: ``set``
-    overrides strategy parameters and ``scenario`` scenario settings (for instance
-    ``sharing``) of the runs whose strategy is in ``strategies`` (every run when empty);
-    the experiments it does not change are reused."""
+    """A named alternative ``reading`` of a ``sentence`` of the paper, as overrides of strategy
+    parameters (``set``) and scenario settings (``scenario``) of the runs of ``strategies``
+    (every run when empty); the experiments it does not change are reused."""
 
     name: str
     sentence: str
@@ -1004,23 +798,13 @@ def robustness_section(
     interpretations: Sequence[Interpretation],
 ) -> list[str]:
     """Per claim, its verdict under every reading (``readings``: name, the default first,
-    -> ``metric -> values``) and ``robust`` / ``fragile``.
-
-    >>> claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T", "a", "b", Means("<="))
-    >>> default = {"time": {("m", 2): {"a": {1: 1.0}, "b": {1: 2.0}}}}
-    >>> other = {"time": {("m", 2): {"a": {1: 3.0}, "b": {1: 2.0}}}}
-    >>> lines = robustness_section([claim], {"default": default, "slow-a": other},
-    ...     [Interpretation("slow-a", "§2 'a moves'", "a waits")])
-    >>> lines[-2]
-    '| `c` | reproduced | not reproduced | **fragile** (changes under slow-a) |'
-    """
+    -> ``metric -> values``) and ``robust`` / ``fragile``."""
     names = list(readings)
     lines = ["## Robustness to the readings of the paper", ""]
     lines += [
-        "Each claim judged under our default reading and under each interpretation "
-        "(the same rule; only the runs the interpretation changes differ). `robust`: "
-        "the same verdict under every reading; `fragile`: it changes, under the readings "
-        "named.",
+        "Each claim judged under our default reading and under each interpretation (the same "
+        "rule; only the runs the interpretation changes differ). `robust`: the same verdict "
+        "under every reading; `fragile`: it changes, under the readings named.",
         "",
     ]
     if len(names) < 2:
