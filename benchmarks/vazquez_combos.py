@@ -1,14 +1,17 @@
 """vazquez-network: does every combination of the behaviour readings complete?
 
     python benchmarks/vazquez_combos.py [--quick] [--workers 2] [--out runs.json]
+        [--set broken_bridge_frontier=both-leave]
 
-The 16 combinations of ``constrain_bridges`` (stretched | always), ``no_frontier_rule``
+The 24 combinations of ``constrain_bridges`` (stretched | always), ``no_frontier_rule``
 (approach | convoy), ``zone_includes_targets`` (False | True) and
-``replan_on_behaviour`` (any | connectivity), each on generated offices (40 x 40 and
-50 x 50, map seeds 1-2) with 2, 3, 4 and 6 robots, seeds 1-4 and sensor ranges 3 and
-4.5 cells, at a communication range of a third of the map width (13 and 17 cells),
-``coverage_threshold`` 1.0 and ``max_ticks`` 6000: 128 runs per combination. The
-project promises that all of them end ``complete`` (docs/strategies/vazquez-network.md).
+``replan_on_behaviour`` (reroute-collision | any | connectivity), each on generated
+offices (40 x 40 and 50 x 50, map seeds 1-2) with 2, 3, 4 and 6 robots, seeds 1-4 and
+sensor ranges 3 and 4.5 cells, at a communication range of a third of the map width
+(13 and 17 cells), ``coverage_threshold`` 1.0, ``max_ticks`` 6000 and ``stall_ticks``
+400 (a run with no new cell for 400 ticks ends ``stalled``): 128 runs per combination.
+``--set`` fixes further parameters for every run (e.g. ``broken_bridge_frontier=both-leave``).
+The project promises that all of them end ``complete`` (docs/strategies/vazquez-network.md).
 ``--quick``: the 40 x 40 office of map seed 1, 2 and 3 robots, seeds 1-2, sensor 3
 (4 runs per combination).
 
@@ -35,10 +38,11 @@ RULES: dict[str, tuple[Any, ...]] = {
     "constrain_bridges": ("stretched", "always"),
     "no_frontier_rule": ("approach", "convoy"),
     "zone_includes_targets": (False, True),
-    "replan_on_behaviour": ("any", "connectivity"),
+    "replan_on_behaviour": ("reroute-collision", "any", "connectivity"),
 }
 DEFAULT = {"constrain_bridges": "stretched", "no_frontier_rule": "approach",
-           "zone_includes_targets": False, "replan_on_behaviour": "any"}  # fmt: skip
+           "zone_includes_targets": False,
+           "replan_on_behaviour": "reroute-collision"}  # fmt: skip
 MAX_TICKS = 6000
 
 
@@ -73,6 +77,7 @@ def scenario(params: dict[str, Any], run: dict[str, Any]) -> Scenario:
         params=params,
         coverage_threshold=1.0,
         max_ticks=MAX_TICKS,
+        stall_ticks=400,
     )
 
 
@@ -90,6 +95,13 @@ def one(job: tuple[dict[str, Any], dict[str, Any]]) -> dict[str, Any]:
     }
 
 
+def json_or_text(value: str) -> Any:
+    try:
+        return json.loads(value)
+    except json.JSONDecodeError:
+        return value
+
+
 def label(params: dict[str, Any]) -> str:
     return " ".join(f"{k}={v}" for k, v in params.items())
 
@@ -100,10 +112,12 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="processes (1 = sequential)")
     parser.add_argument("--out", type=Path, help="write every run as JSON")
     parser.add_argument(
-        "--only", nargs="+", type=int, help="combination numbers (0-15, as printed)"
+        "--only", nargs="+", type=int, help="combination numbers (0-23, as printed)"
     )
+    parser.add_argument("--set", nargs="+", default=[], help="KEY=VALUE for every run")
     args = parser.parse_args()
-    combos = combinations()
+    extra = {k: json_or_text(v) for k, v in (item.split("=", 1) for item in args.set)}
+    combos = [{**params, **extra} for params in combinations()]
     chosen = args.only if args.only is not None else range(len(combos))
     jobs = [(combos[i], run) for i in chosen for run in runs(args.quick)]
     started = time.perf_counter()
@@ -120,7 +134,7 @@ def main() -> None:
         mine = [r for r in results if r["params"] == params]
         failed = [r for r in mine if r["status"] != "complete"]
         failed_total += len(failed)
-        mark = " (default)" if params == DEFAULT else ""
+        mark = " (default)" if params == {**DEFAULT, **extra} else ""
         print(f"[{i:2d}] {label(params)}{mark}: {len(failed)}/{len(mine)}")
         for r in failed:
             run = r["run"]

@@ -133,7 +133,7 @@ def test_interpretations_change_one_setting_each() -> None:
     # every other reading of vazquez-network's rules: one parameter, a valid value
     from mrexplore.strategies.vazquez_network import VazquezNetwork
 
-    assert len(rules) == 8
+    assert len(rules) == 9
     for reading in rules:
         ((key, value),) = reading.set.items()
         assert reading.strategies == (vz.VAZQUEZ,)

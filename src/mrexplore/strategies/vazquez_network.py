@@ -50,9 +50,13 @@ What is implemented (paper section -> code):
   - **maintain-connectivity** otherwise: explore as in §3.2 ("otherwise the
     algorithm is executed as explained in Section 3.2").
 
-  Any change of behaviour makes the robot re-evaluate its plan (Figure 2: "when a
-  change in behaviour is detected the robot will reevaluate its current plan");
-  otherwise it plans on arriving (``P(x, y) = f(x, y)``), when blocked, or by the
+  A change of behaviour makes the robot re-evaluate its plan (Figure 2: "when a
+  change in behaviour is detected the robot will reevaluate its current plan"): a
+  new plan, but for a change into or out of avoid-collision, which re-evaluates the
+  path to the current goal (§3.3.2: "The avoid-collision behaviour causes a
+  re-evaluation of paths to the current goal"; the section's rule for its behaviour
+  refines the caption's general one; ``replan_on_behaviour=any`` reads the caption
+  alone); otherwise it plans on arriving (``P(x, y) = f(x, y)``), when blocked, or by the
   re-planning rules of :data:`REPLAN_PARAMS` (re-planning when the frontier has
   been explored is off by default: the paper re-plans on arrival).
 
@@ -99,8 +103,15 @@ name                       symbol  default     unit   meaning
                                                       zone of each neighbour's destination
 ``resolve_conflicts``      -       True        -      re-plan when a lower id announces a
                                                       destination within ``R`` of one's own
-``replan_on_behaviour``    -       any         -      re-plan on any change of behaviour, or
-                                                      only into and out of achieve-connectivity
+``replan_on_behaviour``    -       reroute-    -      on a change into or out of avoid-
+                                   collision              collision re-route to the goal (§3.3.2),
+                                                      re-plan on any other change of behaviour;
+                                                      ``any``: re-plan on every change;
+                                                      ``connectivity``: only into and out of
+                                                      achieve-connectivity
+``broken_bridge_frontier`` -       lower-      -      a bridge link broke: both go back, the
+                                   keeps                  lower id keeps its frontier to resume
+                                                      it; or ``both-leave`` theirs to others
 ``replan_*``               -                          see :data:`REPLAN_PARAMS`;
                                                       ``replan_on_target_explored`` False
 =========================  ======  ==========  =====  ==========================================
@@ -211,7 +222,20 @@ Interpretations (where the paper is silent or does not fit a grid world):
   without reconnecting or after ``reconnect_timeout`` ticks (a failed robot never
   answers). Robots that lost a far part of the team through someone else's bridge
   go on exploring: only the pair of the broken link returns (§3.3.1 "the pair of
-  robots ... are encouraged to return").
+  robots ... are encouraged to return"). A broken bridge is a stretched one seen
+  late (the positions heard are up to ``k`` ticks plus a hop old, and ``d3 - d2``
+  is a tenth of the range), so the rule of a stretched pair, the lower id keeps its
+  frontier, applies to it too (``broken_bridge_frontier=lower-keeps``): both go back,
+  the higher id leaves its frontier to the others, the lower resumes its own once
+  reconnected. If both left theirs (``both-leave``, the earlier reading), two robots
+  whose frontiers lie farther apart than ``d3`` took each other's on reconnecting,
+  crossed and broke the link again, forever (measured under
+  ``replan_on_behaviour=connectivity`` and ``reroute-collision``). A frontier is kept
+  once: if the link breaks again on the way to it, the lower id leaves it too (else
+  three robots in a chain whose links flicker at the range took the same frontiers
+  back every tick, measured). (Only the higher one going back, the lower waiting,
+  would split a chain whose middle robot has the highest id: it cannot return to
+  both ends at once, measured.)
 * **Utility reduction.** "The utility expected by a robot considering moving to a
   particular frontier is lessened if there are any robots near that destination":
   unknown cells within ``R`` of another robot's announced destination (Simmons et
@@ -694,6 +718,13 @@ class VazquezNetwork(Strategy):
             "§3.1) or always (every bridge)",
             choices=("stretched", "always"),
         ),
+        "broken_bridge_frontier": Param(
+            "lower-keeps",
+            "",
+            "a broken bridge link: both go back, the lower id keeping its frontier to "
+            "resume (lower-keeps), or both leave theirs to the others (both-leave)",
+            choices=("lower-keeps", "both-leave"),
+        ),
         "zone_between_pair": Param(
             True,
             "",
@@ -720,11 +751,11 @@ class VazquezNetwork(Strategy):
             choices=("ticks", "cells"),
         ),
         "replan_on_behaviour": Param(
-            "any",
+            "reroute-collision",
             "",
-            "re-evaluate the plan on any change of behaviour (Fig. 2), on any but into or "
-            "out of avoid-collision, which re-routes to the goal (§3.3.2), or only into and "
-            "out of achieve-connectivity",
+            "re-evaluate the plan on any change of behaviour but into or out of "
+            "avoid-collision, which re-routes to the goal (§3.3.2), on any change (Fig. 2), "
+            "or only into and out of achieve-connectivity",
             choices=("any", "reroute-collision", "connectivity"),
         ),
         **REPLAN_PARAMS,
@@ -754,6 +785,8 @@ class VazquezNetwork(Strategy):
         self.previous_subnetwork: frozenset[int] = frozenset({robot_id})
         self.previous_neighbours: frozenset[int] = frozenset()
         self.lost: dict[int, tuple[Cell, int]] = {}  # neighbour -> (last cell, tick lost)
+        self.kept: Cell | None = None  # the frontier kept while going back to the lost
+        self.resumed: Cell | None = None  # the last kept frontier resumed (kept once only)
         self.remembered: dict[int, int] = {}  # partner -> constrained until this tick
         self.stretched: frozenset[int] = frozenset()  # bridge partners beyond d2 last tick
         self.aborted: dict[Cell, int] = {}  # frontier given up for a constraint -> until tick
@@ -957,7 +990,7 @@ class VazquezNetwork(Strategy):
         if conflict or lost_changed or switched or self._needs_plan(view):
             # A plan given up to a constraint: the network's, or a robot in the way.
             constrained_now = switched and behaviour == ACHIEVE_CONNECTIVITY
-            gave_up = constrained_now or lost_changed or view.blocked
+            gave_up = constrained_now or (lost_changed and not self._keeps()) or view.blocked
             if gave_up and self.mode in (EXPLORE, LEAD) and not view.arrived:
                 self._abort(view)
             decision = self._plan(view, roles, partners, close, d1, d2)
@@ -1042,7 +1075,15 @@ class VazquezNetwork(Strategy):
         """The exploration algorithm (§3.2) under the current behaviour's constraints."""
         self.last_plan_tick = view.tick
         if self.lost:  # achieve-connectivity after a disconnection: go back
+            if self._keeps():
+                self.kept = self.kept or self.destination
             return self._return(view, roles, partners, close, d1, d2)
+        kept, self.kept = self.kept, None
+        if kept is not None and frontier_at(view.belief, *kept):  # back: resume it
+            dist = distance_field(self._grid(view, close), view.position)
+            if 0 < dist[kept] < math.inf:
+                self.resumed = kept
+                return self._go(view, EXPLORE, extract_path(dist, kept), kept)
         frontier = frontier_mask(view.belief)
         if not frontier.any():
             return self._hold(view)
@@ -1225,6 +1266,15 @@ class VazquezNetwork(Strategy):
             return self._hold(view)
         path = cut_path_near(extract_path(dist, cell), point, radius)
         return self._go(view, mode, path, None)
+
+    def _keeps(self) -> bool:
+        """Disconnected, and the lower id of every broken link
+        (``broken_bridge_frontier=lower-keeps``): it goes back keeping its frontier, to
+        resume it once reconnected, unless it is already heading for a frontier it
+        resumed (kept once: a link that breaks again on the way gives it up)."""
+        lower = self.p["broken_bridge_frontier"] == "lower-keeps"
+        again = self.destination is not None and self.destination == self.resumed
+        return lower and bool(self.lost) and self.robot_id < min(self.lost) and not again
 
     def _return(
         self,

@@ -267,6 +267,10 @@ _BRIDGE = (
     "solitary bridge connection according to the current network topology and if the signal "
     'strength among the pair of robots falls below a threshold"'
 )
+_RETURN = (
+    '§3.3.1 "When the connectivity behaviour is triggered the pair of robots that are out of the '
+    'comfort zone in a bridge connection are encouraged to return"'
+)
 #: ``name | the sentence it reads | how it reads it | overrides | strategies`` (the
 #: strategy's page lists each reading with its default).
 INTERPRETATIONS = render.readings(f"""
@@ -303,10 +307,15 @@ utility-in-cells | §3.2, after Simmons: information gain minus cost | one unkno
 replan-on-connectivity-change | Fig. 2 "When a change in behaviour is detected the robot will
   reevaluate its current plan" | only a change into or out of achieve-connectivity makes it
   re-plan (`replan_on_behaviour=connectivity`) | replan_on_behaviour=connectivity | {VAZQUEZ}
-collision-reroutes | §3.3.2 "The avoid-collision behaviour causes a re-evaluation of paths to
-  the current goal" | entering or leaving avoid-collision re-routes to the current goal instead
-  of choosing a new frontier (`replan_on_behaviour=reroute-collision`) |
-  replan_on_behaviour=reroute-collision | {VAZQUEZ}
+collision-replans | Fig. 2 "When a change in behaviour is detected the robot will reevaluate
+  its current plan", read without §3.3.2 "The avoid-collision behaviour causes a re-evaluation of
+  paths to the current goal" | entering or leaving avoid-collision chooses a new frontier too
+  (`replan_on_behaviour=any`; default: it re-routes to the current goal) |
+  replan_on_behaviour=any | {VAZQUEZ}
+both-leave-on-break | {_RETURN} | when a bridge breaks, both robots leave their frontiers to
+  the others as they go back (`broken_bridge_frontier=both-leave`; default: the lower id keeps
+  its frontier and resumes it, as a stretched pair's lower id does) |
+  broken_bridge_frontier=both-leave | {VAZQUEZ}
 """)
 
 
