@@ -1,11 +1,14 @@
 """The w3 x eq2_units sweep of sheng-bidding on the paper's Table 4 scenario.
 
-    python benchmarks/sheng_units_sweep.py [SPEED]     # e.g. 1 (default) or 0.25
+    python benchmarks/sheng_units_sweep.py [SPEED] [--table4]   # SPEED 1 (default) or 0.25
 
 ``sheng40``, r_s 4, r_c 16, 5 robots starting together, sensing on arrival,
-``sheng-sync``, seeds 1-6; for each reading of eq. (2)'s units and each w3: mean
-T100 (ticks; the run's length if unfinished), total distance (cells), mean group
-diameter (cells) and the share of ticks with more than one sub-network. The table is
+``sheng-sync``, seeds 1-6; with ``--table4`` as the reproduction's Table 4 runs (the
+same cells in every run, start ticks drawn from 0..16). For each reading of eq. (2)'s
+units and each w3: mean T100 (ticks; the run's length if unfinished), total distance
+(cells), mean group diameter (cells), the share of ticks with more than one
+sub-network, and the map data of the merges (bytes per run, ``sheng-sync``'s steps
+4-10 as sent, and what the brute force would have sent in the same run). The table is
 in ``docs/reproductions/sheng2006.md`` ("What does not").
 """
 
@@ -25,8 +28,15 @@ W3 = (0.0, 0.5, 1.0, 1.5, 2.0)
 SEEDS = range(1, 7)
 
 
-def one(job: tuple[str, float, int, float]) -> tuple[tuple[str, float], dict[str, Any]]:
-    units, w3, seed, speed = job
+def one(job: tuple[str, float, int, float, bool]) -> tuple[tuple[str, float], dict[str, Any]]:
+    units, w3, seed, speed, table4 = job
+    start: Any = "together"
+    if table4:
+        from mrexplore.experiments.reproduce.sheng2006 import START_DELAY, table4_starts
+
+        start, delay = [tuple(c) for c in table4_starts()], START_DELAY
+    else:
+        delay = 0
     scenario = Scenario(
         map="sheng40",
         robots=5,
@@ -34,7 +44,8 @@ def one(job: tuple[str, float, int, float]) -> tuple[tuple[str, float], dict[str
         sensor_range=4,
         comm_range=16,
         sensing="arrival",
-        start="together",
+        start=start,
+        start_delay=delay,
         coverage_threshold=1.0,
         sharing="sheng-sync",
         strategy="sheng-bidding",
@@ -48,24 +59,29 @@ def one(job: tuple[str, float, int, float]) -> tuple[tuple[str, float], dict[str
         "distance": result["total_distance"],
         "diameter": result["group_diameter_mean"],
         "partitioned": float((np.asarray(record.subnetworks) > 1).mean()),
+        "with": float(result.get("sync_bytes_with_tracking") or 0),
+        "without": float(result.get("sync_bytes_without_tracking") or 0),
         "complete": result["status"] == "complete",
     }
 
 
 def main() -> None:
-    speed = float(sys.argv[1]) if len(sys.argv) > 1 else 1.0
-    jobs = [(u, w, s, speed) for u in UNITS for w in W3 for s in SEEDS]
+    args = [a for a in sys.argv[1:] if a != "--table4"]
+    speed, table4 = float(args[0]) if args else 1.0, "--table4" in sys.argv
+    jobs = [(u, w, s, speed, table4) for u in UNITS for w in W3 for s in SEEDS]
     found: dict[tuple[str, float], list[dict[str, Any]]] = {}
     with Pool(2) as pool:
         for key, values in pool.imap(one, jobs):
             found.setdefault(key, []).append(values)
-    print(f"speed {speed:g}: eq2_units | w3 | time | distance | diameter | partitioned | complete")
+    head = "eq2_units | w3 | time | distance | diameter | partitioned | bytes with | without"
+    print(f"speed {speed:g}{', Table 4 starts' if table4 else ''}: {head} | complete")
     for (units, w3), runs in found.items():
         mean = {k: statistics.mean(r[k] for r in runs) for k in runs[0] if k != "complete"}
         done = sum(r["complete"] for r in runs)
         print(
             f"{units} | {w3:g} | {mean['time']:.0f} | {mean['distance']:.0f} | "
-            f"{mean['diameter']:.1f} | {mean['partitioned']:.2f} | {done}/{len(runs)}"
+            f"{mean['diameter']:.1f} | {mean['partitioned']:.2f} | {mean['with']:.0f} | "
+            f"{mean['without']:.0f} | {done}/{len(runs)}"
         )
 
 
