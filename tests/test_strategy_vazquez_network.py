@@ -726,3 +726,44 @@ def test_known_livelocks_of_non_default_readings(
     reading named; it would complete if the livelock were fixed."""
     status, ticks = _livelock_status(case, **params)
     assert status == "complete", (status, ticks)
+
+
+#: The two runs of the full vazquez2005 reproduction with every reading that stall
+#: (2 of 2 490; none of the default reading's 495): large office (105 x 105, map seed
+#: 1), 1 m (20 cells), sensor 4.5, ``broadcast`` sharing, re-planning on arrival.
+#: * ``utility_unit=cells``, 2 robots, seed 1: the swap again, through the "kept once"
+#:   rule: the lower id gives up a frontier it already resumed when the link breaks a
+#:   second time, and the higher one takes it;
+#: * ``constrain_bridges=always``, 6 robots, seed 2: a chain of six in which every link
+#:   is a bridge; no frontier lies in the comfort zones of all of a robot's
+#:   neighbours and none is stretched, so every robot holds.
+FULL_RUN_STALLS = [
+    ({"utility_unit": "cells"}, 2, 1),
+    ({"constrain_bridges": "always"}, 6, 2),
+]
+
+
+@pytest.mark.xfail(strict=True, reason="known stalls of non-default readings, not fixed")
+@pytest.mark.parametrize(("params", "robots", "seed"), FULL_RUN_STALLS)
+def test_known_stalls_of_readings_in_the_full_reproduction(
+    params: dict[str, Any], robots: int, seed: int
+) -> None:
+    record = simulate(
+        Scenario(
+            map="office",
+            size=(105, 105),
+            map_seed=1,
+            robots=robots,
+            seed=seed,
+            sensor_range=4.5,
+            comm_range=20,
+            strategy="vazquez-network",
+            params={"replan_on_target_explored": False, **params},
+            sharing="broadcast",
+            complete_when="robot",
+            coverage_threshold=1.0,
+            max_ticks=20000,
+            stall_ticks=400,
+        )
+    )
+    assert record.status == "complete", (record.status, record.ticks)
