@@ -335,6 +335,8 @@ def test_bad_settings_and_actions_are_refused() -> None:
         parallel_env(**GENERATED, action_mode="teleport")
     with pytest.raises(ScenarioError, match="robots"):
         parallel_env(**{**GENERATED, "robots": 0})
+    with pytest.raises(ScenarioError, match="start_delay 5: not in the env"):
+        parallel_env(**GENERATED, start_delay=5)
     env = parallel_env(**GENERATED)
     with pytest.raises(RuntimeError, match="reset"):
         env.step({})

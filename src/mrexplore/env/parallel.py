@@ -190,6 +190,11 @@ class ExplorationEnv(ParallelEnv):
         self.scenario_kwargs: dict[str, Any] = scenario_kwargs
         probe = Scenario(**scenario_kwargs, seed=0 if base_seed is None else int(base_seed))
         probe.validate()
+        if probe.start_delay:
+            raise ScenarioError(
+                f"start_delay {probe.start_delay}: not in the env (an agent that has not "
+                "started would count as terminated, and an agent cannot join later)"
+            )
         get_strategy(probe.strategy)  # fail now on an unknown id, not at reset()
         world = build_world(probe, make_streams(probe.seed, probe.robots).starts)
         self.shape: tuple[int, int] = world.grid.shape
