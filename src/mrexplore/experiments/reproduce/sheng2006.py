@@ -126,6 +126,7 @@ TABLE4_METRICS: dict[str, Metric] = {
     MERGES: render.measured("sync_merges"),
     PER_MERGE: render.measured("sync_cells_per_merge"),
     "ticks": render.column("ticks"),
+    "diameter": render.measured("group_diameter_mean"),
     **BOTH,
     **{t: render.bytes_of([t]) for types in SYNC_TYPES.values() for t in types},
 }
@@ -397,6 +398,21 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
         f"half a byte per cell of the map): with tracking `{types['sheng-sync']}`, without "
         f"`{types['full']}`; *broadcast* (`{'`, `'.join(BROADCAST_TYPES)}`, inside a sub-network) "
         "is not counted. Our byte model is not the paper's (unknown): ratios compare.",
+        "",
+    ]
+    acts = {k: render.summaries(values[f"table4 {k}"]) for k in (*BOTH, "diameter", PARTITIONS)}
+    lines += [
+        "Where nearness acts: the `sheng-sync` runs' means by w3 (time in ticks, distance and "
+        "diameter in cells, partition events):",
+        "",
+        *render.table(
+            ["w3", *acts],
+            [
+                [c[0], *(fmt(acts[k][c][WITH].mean, 1) for k in acts)]
+                for c in ticks
+                if WITH in ticks[c]
+            ],
+        ),
         "",
     ]
     if any(by_type.values()):
