@@ -95,13 +95,6 @@ def one(job: tuple[dict[str, Any], dict[str, Any]]) -> dict[str, Any]:
     }
 
 
-def json_or_text(value: str) -> Any:
-    try:
-        return json.loads(value)
-    except json.JSONDecodeError:
-        return value
-
-
 def label(params: dict[str, Any]) -> str:
     return " ".join(f"{k}={v}" for k, v in params.items())
 
@@ -116,7 +109,7 @@ def main() -> None:
     )
     parser.add_argument("--set", nargs="+", default=[], help="KEY=VALUE for every run")
     args = parser.parse_args()
-    extra = {k: json_or_text(v) for k, v in (item.split("=", 1) for item in args.set)}
+    extra = dict(item.split("=", 1) for item in args.set)  # text, as --set gives it
     combos = [{**params, **extra} for params in combinations()]
     chosen = args.only if args.only is not None else range(len(combos))
     jobs = [(combos[i], run) for i in chosen for run in runs(args.quick)]

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import json
 import math
 import statistics
 from multiprocessing import Pool
@@ -69,19 +68,12 @@ def one(job: tuple[float, str, str, int, int, dict[str, Any]]) -> dict[str, Any]
     }
 
 
-def json_or_text(value: str) -> Any:
-    try:
-        return json.loads(value)
-    except json.JSONDecodeError:
-        return value
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--set", nargs="+", default=[], help="KEY=VALUE for vazquez-network")
     args = parser.parse_args()
-    extra = {k: json_or_text(v) for k, v in (item.split("=", 1) for item in args.set)}
+    extra = dict(item.split("=", 1) for item in args.set)  # text, as --set gives it
     jobs = [
         (r, s, m, n, seed, extra)
         for (r, s), m, n, seed in itertools.product(SETTINGS, METHODS, ROBOTS, SEEDS)

@@ -589,6 +589,14 @@ def test_utility_in_ticks_and_discounted_around_other_robots() -> None:
     assert earlier._discount_centres(v) == []
 
 
+def _office_run(width: int, **settings: Any) -> Any:
+    """One vazquez-network run on a ``width`` x ``width`` office (map seed 1 unless
+    given) to full coverage, stalled after 400 ticks without a new cell unless given."""
+    base = {"map_seed": 1, "stall_ticks": 400}
+    scenario = {"map": "office", "size": (width, width), "strategy": "vazquez-network"}
+    return simulate(Scenario(**scenario, coverage_threshold=1.0, **{**base, **settings}))
+
+
 @pytest.mark.parametrize("constrain", ["stretched", "always"])
 @pytest.mark.parametrize("rule", ["approach", "convoy"])
 @pytest.mark.parametrize("targets", [False, True])
@@ -605,20 +613,15 @@ def test_no_livelock_under_any_combination_of_the_behaviour_rules(
         "replan_on_behaviour": replan,
     }
     for robots in (2, 3):
-        record = simulate(
-            Scenario(
-                map="office",
-                size=(40, 40),
-                map_seed=1,
-                robots=robots,
-                seed=1,
-                sensor_range=3,
-                comm_range=13,
-                strategy="vazquez-network",
-                params=params,
-                coverage_threshold=1.0,
-                max_ticks=4000,
-            )
+        record = _office_run(
+            40,
+            robots=robots,
+            seed=1,
+            sensor_range=3,
+            comm_range=13,
+            params=params,
+            max_ticks=4000,
+            stall_ticks=None,
         )
         assert record.status == "complete", (params, robots, record.status, record.ticks)
 
@@ -683,26 +686,16 @@ def _livelock_status(case: tuple[Any, ...], **params: Any) -> tuple[str, int]:
     new cell), with ``params`` over its combination (the replan rule: the default
     unless given)."""
     constrain, rule, targets, _, width, map_seed, seed, sensor = case
-    record = simulate(
-        Scenario(
-            map="office",
-            size=(width, width),
-            map_seed=map_seed,
-            robots=2,
-            seed=seed,
-            sensor_range=sensor,
-            comm_range=round(width / 3),
-            strategy="vazquez-network",
-            params={
-                "constrain_bridges": constrain,
-                "no_frontier_rule": rule,
-                "zone_includes_targets": targets,
-                **params,
-            },
-            coverage_threshold=1.0,
-            max_ticks=6000,
-            stall_ticks=400,
-        )
+    rules = {"constrain_bridges": constrain, "no_frontier_rule": rule}
+    record = _office_run(
+        width,
+        map_seed=map_seed,
+        robots=2,
+        seed=seed,
+        sensor_range=sensor,
+        comm_range=round(width / 3),
+        max_ticks=6000,
+        params={**rules, "zone_includes_targets": targets, **params},
     )
     return record.status, record.ticks
 
@@ -748,22 +741,15 @@ FULL_RUN_STALLS = [
 def test_known_stalls_of_readings_in_the_full_reproduction(
     params: dict[str, Any], robots: int, seed: int
 ) -> None:
-    record = simulate(
-        Scenario(
-            map="office",
-            size=(105, 105),
-            map_seed=1,
-            robots=robots,
-            seed=seed,
-            sensor_range=4.5,
-            comm_range=20,
-            strategy="vazquez-network",
-            params={"replan_on_target_explored": False, **params},
-            sharing="broadcast",
-            complete_when="robot",
-            coverage_threshold=1.0,
-            max_ticks=20000,
-            stall_ticks=400,
-        )
+    record = _office_run(
+        105,
+        robots=robots,
+        seed=seed,
+        sensor_range=4.5,
+        comm_range=20,
+        params={"replan_on_target_explored": False, **params},
+        sharing="broadcast",
+        complete_when="robot",
+        max_ticks=20000,
     )
     assert record.status == "complete", (record.status, record.ticks)

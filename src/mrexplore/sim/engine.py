@@ -327,9 +327,14 @@ class Simulation:
     def _alive(self) -> frozenset[int]:
         return frozenset(r.id for r in self.robots if r.alive)
 
+    def _wake(self, tick: int) -> None:
+        """Dormant robots whose start tick is ``tick`` start (``start_delay``), unless
+        they failed before."""
+        for robot_id in self.wakes.pop(tick, []):
+            self.robots[robot_id].alive = robot_id not in self.failed
+
     def _fail(self, tick: int) -> None:
-        """Robots starting at ``tick`` wake up; robots failing at it stop moving, sensing
-        and communicating.
+        """Robots failing at ``tick`` stop moving, sensing and communicating.
 
         A failed robot stays where it is, an obstacle for the others; a dormant robot
         that fails never wakes.
@@ -339,8 +344,6 @@ class Simulation:
         if rate > 0:
             draws = self.streams.failures.random(len(self.robots))
             failing |= {r.id for r in self.robots if r.alive and draws[r.id] < rate}
-        for robot_id in sorted(self.wakes.pop(tick, [])):
-            self.robots[robot_id].alive = robot_id not in self.failed | failing
         for robot_id in sorted(failing):
             self.failed.add(robot_id)
             robot = self.robots[robot_id]
@@ -682,7 +685,7 @@ class Simulation:
             self.status = "max_ticks"
 
     def step(self, decide: Decider | None = None) -> str | None:
-        """One tick: failures, links, delivery, decisions, moves, sensing, flush.
+        """One tick: starts, failures, links, delivery, decisions, moves, sensing, flush.
 
         ``decide(robot_id, view)`` replaces the strategies' decisions when given
         (it is called for every live robot, in id order, exactly where the strategy
@@ -695,6 +698,7 @@ class Simulation:
             raise RuntimeError(f"the run is over ({self.status})")
         self.tick += 1
         tick = self.tick
+        self._wake(tick)
         self._fail(tick)
         self._update_links(tick)
         self._deliver(tick)
