@@ -51,7 +51,7 @@ def _check_report(out: Path) -> str:
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return quick_reproduction(tmp_path_factory, "market2018", "baseline-replans-on-arrival")
+    return quick_reproduction(tmp_path_factory, "market2018", "coordinator-assigns-requesting")
 
 
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
@@ -66,13 +66,14 @@ def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
     }
     assert maps == {"intel", "aws-small-house", "office"}
     robustness = text.split("## Robustness to the readings of the paper", 1)[1]
-    assert "| claim | default | baseline-replans-on-arrival | summary |" in robustness
+    assert "| claim | default | coordinator-assigns-requesting | summary |" in robustness
     for claim in repro.CLAIMS:
         assert re.search(
             rf"^\| `{claim.id}` \| .* \| (robust|\*\*fragile\*\*.*) \|$", robustness, re.M
         )
-    assert (quick_run / "readings" / "baseline-replans-on-arrival" / "intel-centralised").is_dir()
-    assert not (quick_run / "readings" / "baseline-replans-on-arrival" / "intel-rrt").exists()
+    reading = quick_run / "readings" / "coordinator-assigns-requesting"
+    assert (reading / "intel-centralised").is_dir()
+    assert not (reading / "intel-rrt").exists()
     arms = text.split("## Arms", 1)[1].split("## Exploration time", 1)[0]
     for arm in repro.ARMS:
         assert f"`{arm}`" in arms

@@ -73,7 +73,9 @@ def test_registered() -> None:
     assert reproduction is m.REPRODUCTION
     assert reproduction.id == "meier2006"
     assert {i.name for i in reproduction.interpretations} == {
-        "replan-on-arrival",
+        "replan-when-explored",
+        "coordinator-assigns-requesting",
+        "discount-within-range",
         "every-target-discounts",
         "raw-path-cost",
     }

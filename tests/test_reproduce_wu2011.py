@@ -19,7 +19,7 @@ from mrexplore.experiments.reproduce import wu2011 as repro
 from mrexplore.experiments.reproduce.base import interpret
 from mrexplore.experiments.store import Store
 
-READING = "kme-replans-on-arrival"
+READING = "coordinator-assigns-requesting"
 QUICK_FIGURES = tuple(
     f"fig{n}_{kind}_{scheme}_{robots}r.png"
     for n, kind, scheme in ((6, "wtv", "together"), (7, "wtv", "separate"), (8, "epv", "separate"))
@@ -73,8 +73,8 @@ def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
         assert re.search(
             rf"^\| `{claim.id}` \| .* \| (robust|\*\*fragile\*\*.*) \|$", robustness, re.M
         )
-    assert (quick_run / "readings" / READING / "unstructured-kme" / "runs").is_dir()
-    assert not (quick_run / "readings" / READING / "unstructured-burgard").exists()
+    assert (quick_run / "readings" / READING / "unstructured-burgard" / "runs").is_dir()
+    assert not (quick_run / "readings" / READING / "unstructured-kme").exists()
 
 
 def test_quick_runs_are_paired_by_seed(quick_run: Path) -> None:
@@ -96,7 +96,7 @@ def test_registered() -> None:
     reproduction = get_reproduction("wu2011")
     assert reproduction is repro.REPRODUCTION
     assert reproduction.id == "wu2011"
-    assert reproduction.interpretation_names() == [READING, "all-replan-on-arrival"]
+    assert reproduction.interpretation_names() == ["all-replan-when-explored", READING]
 
 
 def test_full_sweeps_have_the_papers_design() -> None:
@@ -120,7 +120,16 @@ def test_readings_change_whole_sweeps_of_the_strategies_with_the_trigger() -> No
             strategy = name.removeprefix("unstructured-")
             assert (changed is not None) == (strategy in interpretation.strategies), name
             if changed is not None:
-                assert changed.runs()[0].scenario.params["replan_on_target_explored"] is False
+                params = changed.runs()[0].scenario.params
+                assert {k: params[k] for k in interpretation.set} == interpretation.set
+
+
+def test_every_arm_with_a_re_plan_trigger_re_plans_on_arrival_by_default() -> None:
+    """§IV.D step 11 for KME, and the same rule for the baselines that have a trigger."""
+    for name, sweep in repro.sweeps(True).items():
+        params = sweep.runs()[0].scenario.params
+        if name.removeprefix("unstructured-") in repro.REPLANNING:
+            assert params["replan_on_target_explored"] is False, name
 
 
 def test_separate_starts_differ_between_seeds_and_not_between_strategies() -> None:

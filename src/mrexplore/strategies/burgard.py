@@ -13,8 +13,12 @@ of targets near them:
 
 Then, repeatedly, the pair (robot i, target t) maximising ``U_t - beta * V_t^i``
 is assigned, where ``V_t^i`` is the cost (shortest-path length over cells known
-to be free) of robot i reaching t, and the utilities around t are discounted
-before the next robot is chosen.
+to be free) of robot i reaching t, and the utilities of the targets in the
+visibility area of t are discounted before the next robot is chosen, until every
+robot has a target. Whenever a robot needs a target the whole team is assigned
+again (Meier et al. §5.1: "Only a centralized coordination technique has the
+ability to choose that robot-target tuple that provides the (globally) highest
+expected utility").
 
 Parameters:
 
@@ -26,6 +30,15 @@ name                           symbol      default  unit   meaning
                                                            robot's sensor range
 ``normalize_cost``             -           True     -      divide V_t^i by robot i's largest
                                                            finite V over the targets (see notes)
+``assign``                     -           team     -      ``team``: every robot of the
+                                                           sub-network is re-assigned when one
+                                                           needs a goal; ``requesting``: only
+                                                           the robots that asked
+``visibility_discount``        -           True     -      discount only targets in line of
+                                                           sight of t; False: all within
+                                                           max_range
+``status_period``              -           1        ticks  with ``assign=team``, each robot
+                                                           reports its position this often
 ``request_timeout``            -           5        ticks  resend a goal request if no
                                                            assignment came back
 ``coordinator_timeout``        -           0        ticks  plan alone after waiting this long
@@ -43,9 +56,20 @@ Interpretations (where the sources are silent):
   of distance. We scale each robot's costs to [0, 1] by its largest finite cost
   over the current targets (``normalize_cost=True``); set it to False for raw
   costs.
-* Only robots that need a goal are (re-)assigned; the goals of the others
-  stay fixed and discount the utilities, as in the sequential greedy loop of
-  the paper applied to the robots that are free.
+* The visibility area of a target t (Meier et al. Algorithm 1 step 5, after
+  Burgard et al.): the targets within ``max_range`` in line of sight of t on the
+  coordinator's map, where known obstacles block sight and unknown cells do not
+  (the sensor at t would see through them if they are free);
+  ``visibility_discount=False`` discounts every target within ``max_range``.
+* Whole-team assignment (``assign=team``): when a robot needs a goal, the loop
+  runs over every robot of the sub-network the coordinator knows the position
+  of, those on their way included, so the coordinator chooses the globally best
+  robot-target tuple each time; a robot whose goal does not change hears
+  nothing. It needs every robot's position: each robot sends a ``status``
+  (position, flags) every ``status_period`` ticks (Burgard et al.'s robots share
+  their poses with their sensor data). ``assign=requesting`` (our earlier
+  version) re-assigns only the robots that asked, the goals of the others
+  fixed and discounting first.
 * The coordinator's inputs are messages: a robot needing a goal sends a
   ``status`` message (position, flags: 8 bytes + header) to the coordinator,
   which answers with an ``assign`` message (target: 6 bytes + header). The
@@ -77,7 +101,9 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import STATUS_BYTES, TARGET_BYTES, fixed_size
 from mrexplore.comm.messages import ASSIGN, STATUS, Message
+from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.planning import distance_field, extract_path, frontier_mask
+from mrexplore.sensing import visible_cells_flat
 from mrexplore.strategies.base import (
     REPLAN_PARAMS,
     Cell,
@@ -123,10 +149,23 @@ def discount(
     target_cols: npt.NDArray[np.int64],
     goal: Cell,
     max_range: float,
+    occupied: npt.NDArray[np.bool_] | None = None,
 ) -> None:
-    """Reduce the utility of every target near ``goal`` by P(||t - goal||), in place."""
+    """Reduce the utility of every target near ``goal`` by P(||t - goal||), in place.
+
+    With ``occupied`` (the planner's map, ``True`` where a cell is known to block
+    sight) only the targets in the visibility area of ``goal`` are reduced (Meier et
+    al. Algorithm 1 step 5: "Reduce the utility of each target point t' in the
+    visibility area"): those in line of sight of ``goal`` within ``max_range``
+    (:mod:`mrexplore.planning.visibility`; unknown cells do not block sight).
+    """
     d = np.hypot(target_rows - goal[0], target_cols - goal[1])
-    utility -= coverage_probability(d, max_range)
+    reduction = coverage_probability(d, max_range)
+    if occupied is not None and reduction.any():
+        seen = np.zeros(occupied.size, dtype=bool)
+        seen[visible_cells_flat(occupied, goal, max_range)] = True
+        reduction = np.where(seen[target_rows * occupied.shape[1] + target_cols], reduction, 0.0)
+    utility -= reduction
 
 
 def assign_greedy(
@@ -140,18 +179,20 @@ def assign_greedy(
     max_range: float,
     normalize_cost: bool,
     unreachable: Mapping[int, Iterable[Cell]] | None = None,
+    occupied: npt.NDArray[np.bool_] | None = None,
 ) -> dict[int, Cell]:
     """Burgard's sequential assignment of frontier targets to ``robots``.
 
     ``held_goals`` are goals of robots not being re-assigned; they discount the
     utilities first. ``unreachable[i]`` are targets robot ``i`` cannot reach
-    whatever its map says (cost infinite). Returns a goal for every robot that
-    can reach a target.
+    whatever its map says (cost infinite). ``occupied``: discount only in the
+    visibility area of each goal (:func:`discount`). Returns a goal for every robot
+    that can reach a target.
     """
     rows, cols = np.nonzero(frontier)
     utility = np.ones(rows.size, dtype=np.float64)
     for goal in held_goals.values():
-        discount(utility, rows, cols, goal, max_range)
+        discount(utility, rows, cols, goal, max_range, occupied)
     costs: dict[int, npt.NDArray[np.float64]] = {}
     for robot in robots:
         dist = distance_field(belief_passable, positions[robot], targets=frontier)
@@ -179,7 +220,7 @@ def assign_greedy(
         robot, index = best
         goal = (int(rows[index]), int(cols[index]))
         assigned[robot] = goal
-        discount(utility, rows, cols, goal, max_range)
+        discount(utility, rows, cols, goal, max_range, occupied)
         remaining.remove(robot)
     return assigned
 
@@ -196,6 +237,18 @@ class Burgard(FrontierStrategy):
             0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range", low=0
         ),
         "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
+        "assign": Param(
+            "team",
+            "",
+            "whenever a robot needs a goal, assign the whole team, or only those that asked",
+            choices=("team", "requesting"),
+        ),
+        "visibility_discount": Param(
+            True, "", "discount only targets in line of sight of a goal (its visibility area)"
+        ),
+        "status_period": Param(
+            1, "ticks", "with assign=team, each robot reports its position this often", low=1
+        ),
         "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks", low=1),
         **FALLBACK_PARAMS,
         **REPLAN_PARAMS,
@@ -207,8 +260,9 @@ class Burgard(FrontierStrategy):
         self.known_positions: dict[int, Cell] = {}
         self.held_goals: dict[int, Cell] = {}
         self.requests: set[int] = set()
-        # Member state: when the last request went out.
+        # Member state: when the last request and the last report went out.
         self.requested_at = -1
+        self.reported_at = -(10**9)
         # Our rules for lossy links and blocked targets (mrexplore.strategies.fallback).
         self.watch = CoordinatorWatch()
         self.blocked_targets = BlockedTargets(int(self.p["block_limit"]))
@@ -252,6 +306,9 @@ class Burgard(FrontierStrategy):
             needs_goal = True
         if not needs_goal:
             self.watch.stop()
+            team = self.p["assign"] == "team"
+            if team and view.tick - self.reported_at >= int(self.p["status_period"]):
+                decision.messages.append(self._status(view, coordinator, needs_goal=False))
             return decision
         self.watch.wait(view.tick)
         if self.watch.expired(view.tick, self._coordinator_timeout()):
@@ -262,11 +319,14 @@ class Burgard(FrontierStrategy):
                 return own
         if self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]:
             self.requested_at = view.tick
-            status = StatusPayload(self.robot_id, view.position, True)
-            decision.messages.append(
-                Message(STATUS, self.robot_id, coordinator, fixed_size(STATUS_BYTES), status)
-            )
+            decision.messages.append(self._status(view, coordinator, needs_goal=True))
         return decision
+
+    def _status(self, view: RobotView, coordinator: int, *, needs_goal: bool) -> Message:
+        """This robot's position for the coordinator, and whether it needs a goal."""
+        self.reported_at = view.tick
+        status = StatusPayload(self.robot_id, view.position, needs_goal)
+        return Message(STATUS, self.robot_id, coordinator, fixed_size(STATUS_BYTES), status)
 
     def _follow(self, view: RobotView, goal: Cell) -> Decision:
         """Adopt an assigned goal, planning the path on this robot's own belief."""
@@ -294,6 +354,7 @@ class Burgard(FrontierStrategy):
                 max_range=float(self.p["max_range"]) or view.sensor_range,
                 normalize_cost=bool(self.p["normalize_cost"]),
                 unreachable={self.robot_id: self.blocked_targets.excluded},
+                occupied=view.belief == OCCUPIED if self.p["visibility_discount"] else None,
             )
             goal = assigned.get(self.robot_id)
             if goal is not None:
@@ -302,7 +363,9 @@ class Burgard(FrontierStrategy):
                 return Decision()
 
     def _coordinate(self, view: RobotView, needs_goal: bool) -> Decision:
-        """Coordinator: assign goals to every robot that asked for one (and itself)."""
+        """Coordinator: when a robot needs a goal (itself included), assign goals to the
+        whole team it knows the positions of (``assign=team``), or only to the robots
+        that asked (``requesting``)."""
         members = view.subnetwork
         self.known_positions[self.robot_id] = view.position
         self.requests &= members
@@ -315,23 +378,29 @@ class Burgard(FrontierStrategy):
         if not self.requests:
             return Decision()
         frontier = frontier_mask(view.belief)
-        robots = sorted(r for r in self.requests if r in self.known_positions)
+        chosen = members if self.p["assign"] == "team" else self.requests
+        robots = sorted(r for r in chosen if r in self.known_positions)
         max_range = float(self.p["max_range"]) or view.sensor_range
+        occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
         assigned = assign_greedy(
             robots,
             self.known_positions,
-            {r: g for r, g in self.held_goals.items() if r not in self.requests},
+            {r: g for r, g in self.held_goals.items() if r not in robots},
             passable(view.belief),
             frontier,
             beta=float(self.p["beta"]),
             max_range=max_range,
             normalize_cost=bool(self.p["normalize_cost"]),
             unreachable={self.robot_id: self.blocked_targets.excluded},
+            occupied=occupied,
         )
         decision = Decision()
         for robot, goal in assigned.items():
+            unchanged = robot not in self.requests and self.held_goals.get(robot) == goal
             self.held_goals[robot] = goal
             self.requests.discard(robot)
+            if unchanged:  # re-assigned the goal it holds: nothing to say
+                continue
             if robot == self.robot_id:
                 own = self._follow(view, goal)
                 decision.goal, decision.path = own.goal, own.path

@@ -75,6 +75,8 @@ name                           symbol  default  unit   meaning
                                                        long for a goal; 0 = 3 x request_timeout
 ``block_limit``                -       2        -      give up a target after this many blocks
                                                        on it in a row; 0 = never
+``replan_on_target_explored``  -       False    -      also start a round once a target is
+                                                       explored (default: on arrival, step 11)
 ``replan_*``                   -                       see :data:`REPLAN_PARAMS`
 =============================  ======  =======  =====  =========================================
 
@@ -130,10 +132,13 @@ Interpretations (where the paper is silent or does not fit a grid simulator):
 * **Who is re-decided.** Every robot of the round gets a new target (§IV.D),
   but a robot whose target did not change gets no message. Robots that did not
   report in time keep their targets, which count as chosen (rho2).
-* **When.** A round starts when a robot reaches its target (§IV.D step 11), is
-  blocked, has no goal, or a re-planning rule of :data:`REPLAN_PARAMS` fires
-  (by default, when its target stops being a frontier cell: with sensing while
-  moving, targets are usually seen before they are reached).
+* **When.** A round starts when a robot reaches its target (§IV.D step 11: "Robots
+  move to their targets until one robot arrives at its target"), is blocked, has
+  no goal, or a re-planning rule of :data:`REPLAN_PARAMS` fires; none does by
+  default (``replan_on_target_explored=True``, our earlier default, also starts a
+  round once a target stops being a frontier cell: with sensing while moving,
+  targets are usually seen before they are reached, and rounds came every 1.5-2
+  ticks).
 * **Limited communication.** Each sub-network has its own coordinator, which
   clusters the unknown space of its own belief into as many regions as robots it
   can reach: sub-networks do not know of each other, so their regions overlap
@@ -158,6 +163,7 @@ Interpretations (where the paper is silent or does not fit a grid simulator):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
@@ -832,6 +838,11 @@ class Kme(FrontierStrategy):
         "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
         **FALLBACK_PARAMS,
         **REPLAN_PARAMS,
+        # §IV.D step 11: "Robots move to their targets until one robot arrives at its
+        # target": a round on arrival, not when a target got explored.
+        "replan_on_target_explored": dataclasses.replace(
+            REPLAN_PARAMS["replan_on_target_explored"], default=False
+        ),
     }
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:

@@ -12,7 +12,9 @@ Algorithm 1, per robot, whenever it needs a new target:
    never overwrites cells the robot observed itself);
 2. the potential targets are the frontier cells of that map;
 3. ``U_t = 1`` for every target;
-4-6. for every target t' received from another robot, ``U_t <- U_t - P(||t - t'||)``
+4-6. for every target t' received from another robot, "Reduce the utility of each
+   target point t' in the visibility area": ``U_t <- U_t - P(||t - t'||)`` for the
+   targets in line of sight of t' (known obstacles block sight, unknown cells do not),
    with ``P(d) = 1 - d / max_range`` for ``d < max_range``, else 0 (eq. 1);
 7. ``t = argmax_t U_t - beta * V_t``, ``V_t`` the cost of reaching t;
 8. broadcast t (a target point transmission, ``TPT``).
@@ -28,6 +30,12 @@ name                           symbol      default  unit   meaning
                                                            finite cost (as in ``burgard``)
 ``respect_priority``           -           True     -      only targets of robots with a lower
                                                            id (higher priority) discount
+``visibility_discount``        -           True     -      discount only in the visibility area
+                                                           (line of sight) of a target; False:
+                                                           every target within max_range
+``replan_on_target_explored``  -           False    -      also choose anew once the target is
+                                                           explored (default: on arrival, when
+                                                           Algorithm 1 needs a new target)
 ``replan_*``                   -                           see :data:`REPLAN_PARAMS`
 =============================  ==========  =======  =====  ======================================
 
@@ -43,6 +51,7 @@ new one. The cost scale follows ``burgard`` (see its doc page).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
@@ -51,6 +60,7 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, POLYGON_POINT_BYTES, fixed_size
 from mrexplore.comm.messages import Message
+from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.strategies.base import (
     REPLAN_PARAMS,
     Cell,
@@ -76,7 +86,15 @@ class MeierPolygon(FrontierStrategy):
         "max_range": Param(0.0, "cells", "radius of P(d); 0 = sensor range", "max_range", low=0),
         "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
         "respect_priority": Param(True, "", "only lower ids' targets discount"),
+        "visibility_discount": Param(
+            True, "", "discount only targets in line of sight of a received target"
+        ),
         **REPLAN_PARAMS,
+        # Algorithm 1 runs "whenever a robot selects a new target location": when it
+        # reached its target (or cannot reach it), not when the target got explored.
+        "replan_on_target_explored": dataclasses.replace(
+            REPLAN_PARAMS["replan_on_target_explored"], default=False
+        ),
     }
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
@@ -111,9 +129,10 @@ class MeierPolygon(FrontierStrategy):
             cost = cost / cost.max()
         utility = np.ones(rows.size, dtype=np.float64)  # step 3
         max_range = float(self.p["max_range"]) or view.sensor_range
+        occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
         for robot, target in sorted(self.received_targets.items()):  # steps 4-6
             if robot == self.robot_id or (self.p["respect_priority"] and robot > self.robot_id):
                 continue
-            discount(utility, rows, cols, target, max_range)
+            discount(utility, rows, cols, target, max_range, occupied)  # "in the visibility area"
         best = int(np.argmax(utility - float(self.p["beta"]) * cost))  # step 7
         return int(rows[best]), int(cols[best])

@@ -69,6 +69,9 @@ FIXED: dict[str, Any] = {
     "latency": 1,
     "loss": 0.0,
     "coverage_threshold": 0.99,
+    # Algorithm 1 runs when a robot needs a new target: on arrival (or blocked), for
+    # both arms (the meier-polygon default; burgard's is also re-planning when explored).
+    "set": {"replan_on_target_explored": False},
 }
 
 
@@ -225,10 +228,19 @@ CLAIMS = tuple(Claim(i, at, ours, paper, *JUDGED[i]) for i, at, ours, paper in C
 #: Choices the paper leaves open (docs/reproductions/meier2006.md); claims are judged under
 #: each. ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings("""
-replan-on-arrival | §4 "Whenever a robot selects a new target location, it broadcasts its
-  decision" | a robot selects a new target (the paper does not say when) only on arrival or
-  blocked, not also once its target is explored: `replan_on_target_explored=false`, both arms |
-  replan_on_target_explored=false | meier-polygon, burgard
+replan-when-explored | §4 "Whenever a robot selects a new target location, it broadcasts its
+  decision" | a robot also selects a new target once its target is explored, not only on
+  arrival or blocked (`replan_on_target_explored=true`, both arms; default false) |
+  replan_on_target_explored=true | meier-polygon, burgard
+coordinator-assigns-requesting | §5.1 "Only a centralized coordination technique has the
+  ability to choose that robot-target tuple that provides the (globally) highest expected
+  utility" | the centralised coordinator assigns only the robots that ask for a goal, the goals
+  of the others fixed (`assign=requesting`, our earlier version; default: the whole team) |
+  assign=requesting | burgard
+discount-within-range | Algorithm 1 step 5 "Reduce the utility of each target point t' in the
+  visibility area" | every target within max_range is discounted, seen from the goal or not
+  (`visibility_discount=false`, both arms, our earlier version) | visibility_discount=false |
+  meier-polygon, burgard
 every-target-discounts | §5.3 "target point transmissions (TPT) to publish chosen target
   locations to robots with lower priority" against Algorithm 1 "for all received targets" |
   every received target discounts, not only those of lower ids (`respect_priority=false`) |
@@ -298,6 +310,11 @@ sensor; 1 tick | laser, range not given; - | 360°, {SENSOR_RANGE} cells (5 m at
 Douglas-Peucker stop | approximation error zero | every contour point within 0.5 cell of its edge
 communication | unlimited range, reliable | no loss, latency 1 tick, no bandwidth cap
 baselines | Burgard et al.; theirs with our coordination | `burgard`, `meier-polygon`; `full` maps
+centralised assignment | the "(globally) highest" robot-target tuple (§5.1) | the whole team
+  re-assigned whenever a robot needs a goal; positions reported every tick
+discount | "in the visibility area" (Alg. 1) | targets in line of sight of a goal, both arms
+re-planning | when a robot "selects a new target location" (not said) | on arrival or blocked,
+  both arms
 raw scans (Fig. 7) | each robot sends its sweeps | {SCAN_BYTES} B/robot/tick + `status`, `assign`
 approximation error | against a central map (%) | own cells own polygons get wrong (run mean)
 runs | not given | {seeds} seeds, start `together`, at most {ticks} ticks"""

@@ -71,9 +71,10 @@ def experiments(quick: bool) -> list[render.Experiment]:
     fixed = {**FIXED, "size": f"{size}x{size}"}
     grid = {"start": list(STARTS), "robots": list(QUICK_TEAM_SIZES if quick else TEAM_SIZES)}
     return [
-        render.Experiment(f"{m}-{s}", {**fixed, "map": m, "strategy": s}, grid, seeds, CURVES_EVERY)
+        render.Experiment(f"{m}-{s}", {**fixed, "map": m, **settings}, grid, seeds, CURVES_EVERY)
         for m in (MAPS[:1] if quick else MAPS)
         for s in STRATEGIES
+        for settings in [{"strategy": s, **({"set": ON_ARRIVAL} if s in REPLANNING else {})}]
     ]
 
 
@@ -219,18 +220,21 @@ def _claim(id_: str, where: str, statement: str, sentence: str) -> claims.Claim:
 
 CLAIMS = tuple(_claim(*words) for words in CLAIM_WORDS)
 
-#: Sensing every tick, a target is usually seen before it is reached: our `kme`,
-#: `nearest-frontier` and `burgard` then re-plan (`replan_on_target_explored`, default;
-#: the paper names no trigger of the baselines); `zlot-market` drops an explored goal.
+#: §IV.D step 11: a KME round when the first robot arrives; the paper names no trigger of the
+#: baselines, so `nearest-frontier` and `burgard` re-plan on arrival too (one rule for every
+#: arm); `zlot-market` drops a goal once it is explored (its own task rule).
 _STEP_11 = '§IV.D step 11 "Robots move to their targets until one robot arrives at its target"'
+ON_ARRIVAL = {"replan_on_target_explored": False}
+REPLANNING = ("kme", "nearest-frontier", "burgard")
 INTERPRETATIONS = render.readings(f"""
-kme-replans-on-arrival | {_STEP_11}, as KME's only trigger | `kme` re-plans only when a robot
-  arrives (or is blocked or has no goal), `replan_on_target_explored=false`; the baselines keep
-  their default triggers | replan_on_target_explored=false | kme
-all-replan-on-arrival | {_STEP_11}, as the trigger of every method that has one | `kme`,
-  `nearest-frontier` and `burgard` all re-plan on arrival only
-  (`replan_on_target_explored=false`): KME and the baselines alike |
-  replan_on_target_explored=false | kme, nearest-frontier, burgard
+all-replan-when-explored | {_STEP_11}, read as one trigger among others | `kme`,
+  `nearest-frontier` and `burgard` also re-plan once a target is explored
+  (`replan_on_target_explored=true`, our earlier default; default: on arrival), KME and the
+  baselines alike | replan_on_target_explored=true | kme, nearest-frontier, burgard
+coordinator-assigns-requesting | §II (Burgard et al.: the robot-target tuple of highest utility,
+  robot after robot) | `burgard`'s coordinator assigns only the robots that ask for a goal, the
+  goals of the others fixed (`assign=requesting`, our earlier version; default: the whole team)
+  | assign=requesting | burgard
 """)
 
 # ------------------------------------------------------------------------ report
@@ -265,9 +269,11 @@ time; curves | steps; mean of 15 runs | ticks; every {CURVES_EVERY} ticks, 95% C
         "*Start set-ups*: the paper's 15 locations (Fig. 5) are not in our copy. The seed places "
         "the team alike for every strategy (`together`: adjacent cells around a random free "
         "cell; `separate`: random free cells): comparisons are paired by seed.",
-        "*Re-planning*: `kme` re-plans when a robot reaches its target (§IV.D step 11) and when "
-        "its target stops being a frontier (`replan_on_target_explored`, its default), as do "
-        "`nearest-frontier` and `burgard`; the readings of the robustness section differ.",
+        "*Re-planning*: `kme` starts a round when a robot reaches its target (§IV.D step 11), "
+        "and `nearest-frontier` and `burgard` re-plan on arrival too (the paper names no "
+        "trigger of the baselines; one rule for every arm); `zlot-market` drops a goal once "
+        "it is explored. `burgard` assigns the whole team whenever a robot needs a goal, "
+        "discounting in line of sight. The readings of the robustness section differ.",
     )
     return render.settings_table(rows, notes)
 
