@@ -16,6 +16,7 @@ from mrexplore.cli import main
 from mrexplore.experiments.reproduce import claims as c
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import meier2006 as m
+from mrexplore.experiments.reproduce.base import interpret
 
 OUTCOMES = ("reproduced", "partly", "not reproduced")
 FIGURES = (
@@ -73,6 +74,7 @@ def test_registered() -> None:
     assert reproduction is m.REPRODUCTION
     assert reproduction.id == "meier2006"
     assert {i.name for i in reproduction.interpretations} == {
+        "epsilon-half-cell",
         "replan-when-explored",
         "coordinator-assigns-requesting",
         "discount-within-range",
@@ -117,6 +119,22 @@ def test_quick_sweeps_are_the_runs_of_before() -> None:
         "share": {"split_rate": [0.1, 1.0, 10.0]},
     }
     assert polygon.seeds == [1]
+
+
+def test_the_tolerance_reading_changes_the_polygon_runs_only_and_keeps_their_rates() -> None:
+    """§5.1 splits until "the approximation error is equal to zero" (``epsilon`` 0); the
+    reading ``epsilon-half-cell`` sets the sharing parameter of the polygon sweeps only."""
+    reading = next(i for i in m.INTERPRETATIONS if i.name == "epsilon-half-cell")
+    assert reading.share == {"epsilon": 0.5} and not reading.set
+    for name, sweep in m.sweeps(True).items():
+        changed = interpret(sweep, reading)
+        assert (changed is not None) == name.endswith("_polygon"), name
+        if changed is not None:
+            shares = [spec.scenario.sharing_params for spec in changed.runs()]
+            assert {s["epsilon"] for s in shares} == {0.5}
+            assert {s["split_rate"] for s in shares} == {0.1, 1.0, 10.0}
+    default = m.sweeps(True)["quick_polygon"].runs()[0].scenario
+    assert "epsilon" not in default.sharing_params  # the mechanism's default, 0
 
 
 # ------------------------------------------------------------ paper's numbers

@@ -122,9 +122,10 @@ SR     ``split_rate``        1.0      splits/s  upper bound on Douglas-Peucker e
                                                 second (the paper uses 0.04 to 25)
 \-     ``ticks_per_second``  1.0      ticks/s   one simulated second is this many ticks;
                                                 1.0: one tick is one second
-\-     ``epsilon``           0.5      cells     an edge is split only while a contour point
+\-     ``epsilon``           0        cells     an edge is split only while a contour point
                                                 between its vertices lies farther than this
-                                                (the paper splits until the error is zero)
+                                                (§5.1: no split once "the approximation
+                                                error is equal to zero")
 \-     ``resync_every``      0        ticks     period of full resyncs; 0 = only when the
                                                 sub-network gains robots
 =====  ====================  =======  ========  =============================================
@@ -312,7 +313,8 @@ class PolygonSharing(MapSharing):
             1.0, one tick is one second. Splits per tick = ``split_rate /
             ticks_per_second``.
         epsilon: Douglas-Peucker tolerance in cells (``>= 0``): edges whose
-            contour points all lie within it are not split.
+            contour points all lie within it are not split. Default 0, the paper's
+            "approximation error is equal to zero" (§5.1).
         resync_every: ticks between full resyncs (``>= 0``; 0 = only when a
             robot's sub-network gains members).
 
@@ -329,7 +331,7 @@ class PolygonSharing(MapSharing):
         self,
         split_rate: float = 1.0,
         ticks_per_second: float = 1.0,
-        epsilon: float = 0.5,
+        epsilon: float = 0.0,
         resync_every: int = 0,
     ) -> None:
         if not (isinstance(split_rate, int | float) and split_rate >= 0):

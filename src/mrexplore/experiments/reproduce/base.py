@@ -65,9 +65,9 @@ def select_interpretations(reproduction: Reproduction, chosen: str) -> list[Inte
 
 def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
     """``sweep`` under ``interpretation`` (its overrides fixed, replacing grid axes of the
-    same name), or ``None`` when it changes none of its runs (none of its strategies, or
-    every run the same); an error when it applies to some of the sweep's strategies
-    only."""
+    same name; sharing overrides only where the sweep sets sharing parameters), or ``None``
+    when it changes none of its runs (none of its strategies, or every run the same); an
+    error when it applies to some of the sweep's strategies only."""
     fixed_strategy = sweep.fixed.get("strategy")
     strategies = [fixed_strategy] if fixed_strategy else list(sweep.grid.get("strategy", []))
     hit = [s for s in strategies if interpretation.applies_to(str(s))]
@@ -79,13 +79,16 @@ def interpret(sweep: Sweep, interpretation: Interpretation) -> Sweep | None:
             f"{sweep.name} only; split the sweep by strategy"
         )
     grid: dict[str, Any] = {k: v for k, v in sweep.grid.items() if k not in interpretation.scenario}
-    if "set" in grid:
-        grid["set"] = {k: v for k, v in grid["set"].items() if k not in interpretation.set}
-        if not grid["set"]:
-            del grid["set"]
     fixed = {**sweep.fixed, **interpretation.scenario}
-    if interpretation.set:
-        fixed["set"] = {**sweep.fixed.get("set", {}), **interpretation.set}
+    # Sharing overrides reach only sweeps whose mechanism takes parameters already.
+    share = interpretation.share if "share" in sweep.fixed or "share" in grid else {}
+    for key, overrides in (("set", interpretation.set), ("share", share)):
+        if key in grid:
+            grid[key] = {k: v for k, v in grid[key].items() if k not in overrides}
+            if not grid[key]:
+                del grid[key]
+        if overrides:
+            fixed[key] = {**sweep.fixed.get(key, {}), **overrides}
     changed = replace(sweep, fixed=fixed, grid=grid, name=f"{sweep.name}@{interpretation.name}")
     same = [r.run_id for r in changed.runs()] == [r.run_id for r in sweep.runs()]
     return None if same else changed

@@ -769,8 +769,9 @@ class Claim:
 @dataclass(frozen=True)
 class Interpretation:
     """A named alternative ``reading`` of a ``sentence`` of the paper, as overrides of strategy
-    parameters (``set``) and scenario settings (``scenario``) of the runs of ``strategies``
-    (every run when empty); the experiments it does not change are reused."""
+    parameters (``set``), scenario settings (``scenario``) and sharing parameters (``share``)
+    of the runs of ``strategies`` (every run when empty); the experiments it does not change
+    are reused."""
 
     name: str
     sentence: str
@@ -778,6 +779,7 @@ class Interpretation:
     set: Mapping[str, Any] = field(default_factory=dict)
     strategies: tuple[str, ...] = ()
     scenario: Mapping[str, Any] = field(default_factory=dict)
+    share: Mapping[str, Any] = field(default_factory=dict)
 
     def applies_to(self, strategy: str) -> bool:
         return not self.strategies or strategy in self.strategies

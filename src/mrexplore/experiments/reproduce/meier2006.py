@@ -228,6 +228,10 @@ CLAIMS = tuple(Claim(i, at, ours, paper, *JUDGED[i]) for i, at, ours, paper in C
 #: Choices the paper leaves open (docs/reproductions/meier2006.md); claims are judged under
 #: each. ``name | sentence | reading | overrides | strategies``.
 INTERPRETATIONS = render.readings("""
+epsilon-half-cell | §5.1 "Edge splits are not performed when the approximation of the robot is
+  appropriate meaning that the approximation error is equal to zero" | splitting stops once
+  every contour point is within half a cell of its edge (`epsilon=0.5`, our earlier default;
+  default 0) | share.epsilon=0.5 | meier-polygon
 replan-when-explored | §4 "Whenever a robot selects a new target location, it broadcasts its
   decision" | a robot also selects a new target once its target is explored, not only on
   arrival or blocked (`replan_on_target_explored=true`, both arms; default false) |
@@ -307,7 +311,7 @@ def _settings(quick: bool) -> Lines:
 team sizes | 3, 5; 2 | {teams}
 split rates (splits/s) | 0.04 ... 25 (Table 1) | {rates}
 sensor; 1 tick | laser, range not given; - | 360°, {SENSOR_RANGE} cells (5 m at 0.5 m); 1 s, 1 cell
-Douglas-Peucker stop | approximation error zero | every contour point within 0.5 cell of its edge
+Douglas-Peucker stop | approximation error zero | approximation error zero (`epsilon` 0)
 communication | unlimited range, reliable | no loss, latency 1 tick, no bandwidth cap
 baselines | Burgard et al.; theirs with our coordination | `burgard`, `meier-polygon`; `full` maps
 centralised assignment | the "(globally) highest" robot-target tuple (§5.1) | the whole team

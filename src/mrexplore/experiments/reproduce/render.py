@@ -63,16 +63,19 @@ def text_rows(text: str) -> list[list[str]]:
 
 def readings(text: str) -> tuple[Interpretation, ...]:
     """Interpretations from a ``name | sentence | reading | overrides | strategies`` text
-    table: overrides ``key=value`` (JSON or text; ``scenario.key`` a scenario setting),
-    strategies separated by commas, ``*`` for every run."""
+    table: overrides ``key=value`` (JSON or text; ``scenario.key`` a scenario setting,
+    ``share.key`` a sharing parameter), strategies separated by commas, ``*`` for every run."""
     out = []
     for name, sentence, reading, overrides, strategies in text_rows(text):
         pairs = [item.split("=", 1) for item in overrides.split()]
         values = {key: _json_or_text(value) for key, value in pairs}
-        scenario = {k.removeprefix("scenario."): v for k, v in values.items() if "." in k}
+        part = {p: {k.removeprefix(p): v for k, v in values.items() if k.startswith(p)}
+                for p in ("scenario.", "share.")}  # fmt: skip
         set_ = {k: v for k, v in values.items() if "." not in k}
         chosen = tuple(s.strip() for s in strategies.split(",") if s.strip() not in ("*", ""))
-        out.append(Interpretation(name, sentence, reading, set_, chosen, scenario))
+        out.append(
+            Interpretation(name, sentence, reading, set_, chosen, part["scenario."], part["share."])
+        )
     return tuple(out)
 
 
