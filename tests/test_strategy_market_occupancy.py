@@ -349,3 +349,12 @@ def test_time_triggered_rounds_open_on_the_clock_only() -> None:
     events = _request_ticks({})
     gaps = [b - a for ticks in events.values() for a, b in pairwise(ticks)]
     assert len(set(gaps)) > 1  # event-based rounds follow the arrivals, not a clock
+
+
+def test_a_timer_that_does_not_idle_also_opens_rounds_on_events() -> None:
+    """``idle_until_clock=false``: the clock's rounds, plus a round whenever a robot
+    needs a goal, so rounds come at most ``replan_every`` ticks apart and some sooner."""
+    opened = _request_ticks({"event_based": False, "replan_every": 7, "idle_until_clock": False})
+    gaps = [b - a for ticks in opened.values() for a, b in pairwise(ticks)]
+    assert gaps and max(gaps) <= 7
+    assert min(gaps) < 7

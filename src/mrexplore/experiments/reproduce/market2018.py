@@ -201,6 +201,10 @@ INTERPRETATIONS = render.readings(f"""
 both-replan-when-explored | {_ARRIVAL}, read as one re-plan trigger among others | both arms
   also re-plan once their target is explored (`replan_on_target_explored=true`; default: both
   on arrival only) | replan_on_target_explored=true | burgard, market-occupancy
+timer-does-not-idle | Abstract "event-based communication ... speeds up the exploration" (the
+  paper names no alternative) | in the time-triggered arms a robot that needs a goal also opens
+  a round at once instead of idling until its clock (`idle_until_clock=false`; it changes no
+  event-based run) | idle_until_clock=false | market-occupancy
 coordinator-assigns-requesting | the centralised market of [3] (Burgard et al.: the robot-target
   tuple of highest utility, robot after robot, over the team) | the baseline's coordinator
   assigns only the robots that ask for a goal, the goals of the others fixed
