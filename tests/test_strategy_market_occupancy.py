@@ -358,3 +358,41 @@ def test_a_timer_that_does_not_idle_also_opens_rounds_on_events() -> None:
     gaps = [b - a for ticks in opened.values() for a, b in pairwise(ticks)]
     assert gaps and max(gaps) <= 7
     assert min(gaps) < 7
+
+
+def _corridor_view(belief: np.ndarray) -> RobotView:
+    return RobotView(
+        robot_id=0,
+        n_robots=1,
+        tick=1,
+        position=(5, 10),
+        belief=belief,
+        goal=None,
+        path_remaining=0,
+        arrived=False,
+        blocked=False,
+        inbox=(),
+        subnetwork=frozenset({0}),
+        sensor_range=4.0,
+        speed=1.0,
+        rng=np.random.default_rng(0),
+        new_cells=0,
+    )
+
+
+def test_the_frontier_filter_drops_points_that_would_reveal_little() -> None:
+    """Umari & Mukhopadhyay's filter: a frontier point with fewer than ``filter_min_gain``
+    unknown cells within ``filter_radius`` is no task; a wide opening is kept."""
+    belief = np.full((11, 30), OCCUPIED, dtype=np.int8)
+    belief[1:10, 1:29] = FREE
+    belief[1:10, 29] = UNKNOWN  # the east wall missing: a wide opening to the unknown
+    belief[1:10, 0] = OCCUPIED
+    belief[0, 5] = UNKNOWN  # one unknown cell in the north wall: a pocket
+    view = _corridor_view(belief)
+    unfiltered = MarketOccupancy(0, 1).frontier_points(view)
+    assert {int(c) for _, c in unfiltered} >= {5, 28}  # the pocket is a cluster of its own
+    filtered = MarketOccupancy(0, 1, filter_radius=2.5, filter_min_gain=5).frontier_points(view)
+    assert filtered.shape[0] == 1 and filtered[0, 1] == 28
+    # Every point under the threshold: all kept (the run must still reach its coverage).
+    strict = MarketOccupancy(0, 1, filter_radius=2.5, filter_min_gain=100).frontier_points(view)
+    assert strict.shape == unfiltered.shape

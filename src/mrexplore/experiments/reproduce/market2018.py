@@ -36,6 +36,9 @@ CELL_SIZE_M, SENSOR_RANGE_M = 0.2, 3.0
 SENSOR_RANGE_CELLS = SENSOR_RANGE_M / CELL_SIZE_M
 #: Periods of the time-triggered ablation (ticks = cells of travel): 2 m and 6 m.
 TIMER_PERIODS = (10, 30)
+#: Umari & Mukhopadhyay's frontier filter, the paper's pipeline [20]: a point is dropped when
+#: under 0.2 m² is unknown within half its 1 m ``info_radius``; in our cells.
+FILTER = {"filter_radius": 0.5 / CELL_SIZE_M, "filter_min_gain": round(0.2 / CELL_SIZE_M**2, 6)}
 #: The occupancy ablation: ``lambda_f = 0`` means "default" (= r_f), so a negligible peak.
 NO_OCCUPANCY_LAMBDA_F = 1e-9
 #: A robot waiting for its clock is idle: the stall rule must wait longer than a period.
@@ -201,6 +204,9 @@ INTERPRETATIONS = render.readings(f"""
 both-replan-when-explored | {_ARRIVAL}, read as one re-plan trigger among others | both arms
   also re-plan once their target is explored (`replan_on_target_explored=true`; default: both
   on arrival only) | replan_on_target_explored=true | burgard, market-occupancy
+unfiltered-frontiers | the RRT detector of [20] with its filter, whose threshold the paper does
+  not restate | every reachable frontier cluster is a point, however little it would reveal
+  (`filter_radius=0`, our earlier version) | filter_radius=0 | market-occupancy
 timer-does-not-idle | Abstract "event-based communication ... speeds up the exploration" (the
   paper names no alternative) | in the time-triggered arms a robot that needs a goal also opens
   a round at once instead of idling until its clock (`idle_until_clock=false`; it changes no
@@ -218,13 +224,13 @@ def experiments(quick: bool) -> list[Experiment]:
     seed in a quick run."""
     seeds = QUICK_SEEDS if quick else SEEDS
     robots = {"robots": list(QUICK_TEAM_SIZES if quick else TEAM_SIZES)}
-    market = {**FIXED, "strategy": "market-occupancy"}
+    market = {**FIXED, "strategy": "market-occupancy", "set": FILTER}
     arms: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
         CENTRALISED: ({**FIXED, "strategy": "burgard", "set": BASELINE}, robots),
         DECENTRALISED: (market, {**robots, "set": {"lambda_f": [0.0, NO_OCCUPANCY_LAMBDA_F]}}),
-        RRT: ({**market, "set": {"frontier_detector": "rrt"}}, robots),
+        RRT: ({**market, "set": {**FILTER, "frontier_detector": "rrt"}}, robots),
         "timer": (
-            {**market, "set": {"event_based": False}},
+            {**market, "set": {**FILTER, "event_based": False}},
             {**robots, "set": {"replan_every": list(TIMER_PERIODS)}},
         ),
     }
@@ -283,6 +289,9 @@ the paper's method | weights C - U + F (eqs. 3-6), Hungarian (eq. 8), event-base
   frontier detector [20] | `market-occupancy` at its defaults (lambda_u 0.1, lambda_f = r_f, r =
   sensor range, r_f = 2 x sensor range; no values in the paper); frontier points: grid clusters
   (`decentralised`) and the RRT detector (`rrt`)
+frontier filter | Umari's pipeline [20]: points with under 0.2 m² unknown within 0.5 m dropped |
+  the same in cells: under {FILTER["filter_min_gain"]:g} unknown cells within
+  {FILTER["filter_radius"]:g} cells (`filter_min_gain`, `filter_radius`)
 without event-based communication | not described | `--set event_based=false replan_every=P`:
   each robot opens a round every P ticks, P = {periods} ticks (= {travel} of travel), not when it
   reaches its goal
