@@ -12,7 +12,7 @@ import pytest
 from mrexplore.checks import check_strategy
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
-from mrexplore.planning import frontier_mask
+from mrexplore.planning import distance_field, frontier_mask
 from mrexplore.planning.rrt_frontiers import (
     EDGE_FREE,
     EDGE_FRONTIER,
@@ -396,3 +396,19 @@ def test_the_frontier_filter_drops_points_that_would_reveal_little() -> None:
     # Every point under the threshold: all kept (the run must still reach its coverage).
     strict = MarketOccupancy(0, 1, filter_radius=2.5, filter_min_gain=100).frontier_points(view)
     assert strict.shape == unfiltered.shape
+
+
+def test_path_cost_reading_weighs_the_way_round_a_wall() -> None:
+    """``cost=path``: C_ij is the shortest-path length on the robot's map, not eq. (3)'s
+    straight line; the weights differ by exactly the detour."""
+    belief = np.full((11, 30), OCCUPIED, dtype=np.int8)
+    belief[1:10, 1:29] = FREE
+    belief[1:8, 12] = OCCUPIED  # a wall with a gap at rows 8-9
+    view = _corridor_view(belief)
+    points = np.array([[5, 16], [5, 6]])
+    straight = MarketOccupancy(0, 1).row(view, points).astype(np.float64)
+    around = MarketOccupancy(0, 1, cost="path").row(view, points).astype(np.float64)
+    dist = distance_field(belief == FREE, (5, 10))
+    detour = np.array([dist[5, 16] - 6.0, dist[5, 6] - 4.0])
+    assert detour[0] > 1 and detour[1] == 0
+    assert np.allclose(around - straight, detour, atol=1e-4)

@@ -45,6 +45,9 @@ name                           symbol    default   unit          meaning
                                                                  0 = the sensor range
 ``r_f``                        r_f       0.0       cells         occupancy radius, 3 sigma
                                                                  (eq. 5); 0 = 2 x sensor range
+``cost``                       C_ij      euclidean -             eq. (3): ``euclidean`` (the
+                                                                 paper); ``path``: shortest-path
+                                                                 length on the robot's map
 ``frontier_detector``          -         grid      -             ``grid``: frontier cluster
                                                                  representatives; ``rrt``: the
                                                                  RRT detector (Umari 2017)
@@ -365,6 +368,9 @@ class MarketOccupancy(FrontierStrategy):
         "r_f": Param(
             0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
         ),
+        "cost": Param(
+            "euclidean", "", "C_ij of eq. (3): euclidean | path", choices=("euclidean", "path")
+        ),
         "frontier_detector": Param("grid", "", "frontier points: grid | rrt", choices=DETECTORS),
         "rrt_eta": Param(0.0, "cells", "RRT growth step; 0 = sensor range", "eta", low=0),
         "rrt_samples": Param(20, "samples/tick", "RRT samples per tree per tick", low=1),
@@ -470,16 +476,19 @@ class MarketOccupancy(FrontierStrategy):
         r_f = float(self.p["r_f"]) or 2.0 * view.sensor_range
         lambda_f = float(self.p["lambda_f"]) or r_f
         others = [q for robot, q in sorted(self.assigned.items()) if robot != self.robot_id]
-        w = weight(
-            cost(view.position, points),
-            utility(view.belief, points, r, float(self.p["lambda_u"])),
-            occupancy(points, others, r_f, lambda_f),
-        )
+        reach = np.zeros(points.shape[0])
         if points.shape[0]:
             targets = np.zeros(view.belief.shape, dtype=bool)
             targets[points[:, 0], points[:, 1]] = True
             dist = distance_field(passable(view.belief), view.position, targets=targets)
             reach = dist[points[:, 0], points[:, 1]]
+        c = np.where(np.isfinite(reach), reach, 0.0) if self.p["cost"] == "path" else None
+        w = weight(
+            cost(view.position, points) if c is None else c,
+            utility(view.belief, points, r, float(self.p["lambda_u"])),
+            occupancy(points, others, r_f, lambda_f),
+        )
+        if points.shape[0]:
             w = np.where(np.isfinite(reach) & (reach > 0), w, INFEASIBLE)
         return float32_on_wire(np.minimum(w, INFEASIBLE))
 

@@ -207,6 +207,11 @@ both-replan-when-explored | {_ARRIVAL}, read as one re-plan trigger among others
 unfiltered-frontiers | the RRT detector of [20] with its filter, whose threshold the paper does
   not restate | every reachable frontier cluster is a point, however little it would reveal
   (`filter_radius=0`, our earlier version) | filter_radius=0 | market-occupancy
+path-cost | §III.A "the cost is the estimated distance traveled by robot to reach the target
+  frontier point. The estimated distance is approximated using Euclidean distance" | C_ij is
+  the shortest-path length on the robot's map, the distance it estimates (`cost=path`; default
+  Euclidean, eq. 3): how much of the gap to the baseline, which plans on path costs, the
+  approximation explains | cost=path | market-occupancy
 timer-does-not-idle | Abstract "event-based communication ... speeds up the exploration" (the
   paper names no alternative) | in the time-triggered arms a robot that needs a goal also opens
   a round at once instead of idling until its clock (`idle_until_clock=false`; it changes no
