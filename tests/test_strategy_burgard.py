@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-from mrexplore.comm.messages import ASSIGN, STATUS, Message
+from mrexplore.comm.messages import ASSIGN, BID, STATUS, Message
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.base import RobotView
-from mrexplore.strategies.burgard import Burgard, StatusPayload, discount
+from mrexplore.strategies.burgard import BID_CALL, Burgard, StatusPayload, bids_size, discount
 
 
 def _room(robot_id: int, tick: int, inbox: tuple[Message, ...] = (), **view: object) -> RobotView:
@@ -124,3 +126,45 @@ def test_burgard_completes_with_either_assignment_rule() -> None:
             )
         )
         assert record.status == "complete", rule
+
+
+def test_bids_protocol_calls_the_team_and_assigns_from_the_costs_the_robots_sent() -> None:
+    """``protocol=bids`` (the market paper's [3]: "every robot constructs its bids and
+    sends them to a central executive"): a request opens a round, the coordinator calls
+    for bids, each member answers with its cost to every frontier cell it can reach, and
+    the assignment reads those costs, not the coordinator's own map."""
+    coordinator = Burgard(0, 3, protocol="bids")
+    member_1, member_2 = Burgard(1, 3, protocol="bids"), Burgard(2, 3, protocol="bids")
+    # Robot 1 needs a goal: its request is its bids.
+    request = member_1.decide(_room(1, 0, position=(2, 6)))
+    (bids_1,) = request.messages
+    assert bids_1.type == BID and bids_1.payload.needs_goal
+    frontier_cells = int(bids_1.payload.rows.size)
+    assert frontier_cells > 0 and bids_1.size_bytes == bids_size(frontier_cells)
+    # The coordinator opens the round with a call and waits for the team.
+    call = coordinator.decide(_room(0, 1, (bids_1,), goal=(4, 4)))
+    assert [m.type for m in call.messages] == [BID_CALL] and call.goal is None
+    # Robot 2, on its way, answers the call with its bids; nobody is assigned before.
+    walking = {"goal": (4, 24), "path_remaining": 1, "position": (6, 23)}
+    answer = member_2.decide(_room(2, 2, (call.messages[0],), **walking))
+    (bids_2,) = answer.messages
+    assert bids_2.type == BID and not bids_2.payload.needs_goal
+    # Robot 2 claims the left end is close for it (it is not: the coordinator's map
+    # says 17 cells): the coordinator believes its bid and sends robot 2 left.
+    lying = bids_2.payload.costs.copy()
+    lying[bids_2.payload.cols < 10] = 0.5
+    fake = Message(BID, 2, 0, bids_2.size_bytes, replace(bids_2.payload, costs=lying))
+    decided = coordinator.decide(_room(0, 3, (fake,), goal=(4, 4)))
+    assigned = {m.payload.robot: m.payload.goal for m in decided.messages if m.type == ASSIGN}
+    assert assigned[2][1] < 10
+    assert 1 in assigned
+
+
+def test_bids_protocol_with_a_team_in_a_run_sends_bids_and_no_status() -> None:
+    settings = dict(map="office", size=(40, 40), robots=3, seed=1, max_ticks=400)
+    bids = simulate(Scenario(**settings, strategy="burgard", params={"protocol": "bids"}))
+    positions = simulate(Scenario(**settings, strategy="burgard"))
+    assert bids.bytes_by_type.get("bid", 0) > 0 and bids.bytes_by_type.get("bid_call", 0) > 0
+    assert "status" not in bids.bytes_by_type
+    assert positions.bytes_by_type.get("status", 0) > 0 and "bid" not in positions.bytes_by_type
+    assert bids.known_explorable[-1] > 0.5 * bids.world.n_explorable

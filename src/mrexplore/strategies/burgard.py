@@ -39,6 +39,10 @@ name                           symbol      default  unit   meaning
                                                            max_range
 ``status_period``              -           1        ticks  with ``assign=team``, each robot
                                                            reports its position this often
+``protocol``                   -           positions -     ``positions``: the coordinator
+                                                           plans on its map from reported
+                                                           positions; ``bids``: robots send
+                                                           their costs (see below)
 ``request_timeout``            -           5        ticks  resend a goal request if no
                                                            assignment came back
 ``coordinator_timeout``        -           0        ticks  plan alone after waiting this long
@@ -75,6 +79,20 @@ Interpretations (where the sources are silent):
   which answers with an ``assign`` message (target: 6 bytes + header). The
   coordinator plans for itself without messages. Each message takes one tick,
   so a non-coordinator robot waits two ticks for a new goal.
+* Bids (``protocol=bids``). The decentralised market paper (``market-occupancy``),
+  whose centralised baseline is Burgard et al. (its [3]), describes the method as
+  "centralized since every robot constructs its bids and sends them to a central
+  executive, that tries to maximize the total expected utility ... by assigning them
+  tasks, based on their bids". A robot that needs a goal sends a ``bid`` message: its status item and, for every
+  frontier cell of its own map it can reach, a bid item (cell, path-length cost as
+  float32; ``7 + 8 + 10 n`` bytes). The coordinator then calls the sub-network for
+  bids (``bid_call``, a header, broadcast; with ``assign=team``), every member
+  answers with its bids, and the coordinator assigns once every member has bid (or
+  ``request_timeout`` ticks after the call) from the costs the robots sent: a cell a
+  robot did not bid on is out of its reach. No ``status`` is sent. A robot that
+  asked gets its goal four ticks later (two with ``positions``). ``positions`` (the
+  default) is Burgard et al.'s own setting, where the robots share their maps and
+  poses and the coordinator computes every cost on its map.
 * Unreliable communication (ours; the papers assume every message arrives): a
   robot that has needed a goal for ``coordinator_timeout`` ticks without an
   assignment it can follow runs the method for a team of one (its own belief,
@@ -87,7 +105,9 @@ Interpretations (where the sources are silent):
   robot until it next arrives at a target; a robot left with no target at all
   forgets these and tries them again. See :mod:`mrexplore.strategies.fallback`.
 
-Messages: ``status`` (robot -> coordinator), ``assign`` (coordinator -> robot).
+Messages: ``status`` (robot -> coordinator), ``assign`` (coordinator -> robot); with
+``protocol=bids``, ``bid`` (robot -> coordinator) and ``bid_call`` (coordinator -> all)
+instead of ``status``.
 """
 
 from __future__ import annotations
@@ -99,8 +119,8 @@ from typing import ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import STATUS_BYTES, TARGET_BYTES, fixed_size
-from mrexplore.comm.messages import ASSIGN, STATUS, Message
+from mrexplore.comm.bytes import BID_BYTES, BROADCAST, STATUS_BYTES, TARGET_BYTES, fixed_size
+from mrexplore.comm.messages import ASSIGN, BID, STATUS, Message
 from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.planning import distance_field, extract_path, frontier_mask
 from mrexplore.sensing import visible_cells_flat
@@ -136,6 +156,33 @@ class AssignPayload:
 
     robot: int
     goal: Cell
+
+
+@dataclass(frozen=True, slots=True)
+class BidsPayload:
+    """``protocol=bids``: a robot's position, whether it needs a goal, and its cost
+    (path length on its own map) to each frontier cell it can reach."""
+
+    robot: int
+    position: Cell
+    needs_goal: bool
+    rows: npt.NDArray[np.int64]
+    cols: npt.NDArray[np.int64]
+    costs: npt.NDArray[np.float32]
+
+
+BID_CALL = "bid_call"
+"""``protocol=bids``: the coordinator asks every robot of its sub-network for bids."""
+
+
+def bids_size(n_bids: int) -> int:
+    """Bytes of a ``bid`` message of ``protocol=bids``: a status item (robot, position,
+    flags) and ``n_bids`` bid items (robot, row, col, cost float32).
+
+    >>> bids_size(0), bids_size(10)
+    (15, 115)
+    """
+    return fixed_size(STATUS_BYTES) + n_bids * BID_BYTES
 
 
 def coverage_probability(distance: npt.NDArray[np.float64], max_range: float) -> np.ndarray:
@@ -180,14 +227,17 @@ def assign_greedy(
     normalize_cost: bool,
     unreachable: Mapping[int, Iterable[Cell]] | None = None,
     occupied: npt.NDArray[np.bool_] | None = None,
+    bids: Mapping[int, BidsPayload] | None = None,
 ) -> dict[int, Cell]:
     """Burgard's sequential assignment of frontier targets to ``robots``.
 
     ``held_goals`` are goals of robots not being re-assigned; they discount the
     utilities first. ``unreachable[i]`` are targets robot ``i`` cannot reach
     whatever its map says (cost infinite). ``occupied``: discount only in the
-    visibility area of each goal (:func:`discount`). Returns a goal for every robot
-    that can reach a target.
+    visibility area of each goal (:func:`discount`). ``bids[i]``: robot ``i``'s
+    costs as it sent them (a target it did not bid on is out of its reach); the
+    others' costs are path lengths on ``belief_passable``. Returns a goal for every
+    robot that can reach a target.
     """
     rows, cols = np.nonzero(frontier)
     utility = np.ones(rows.size, dtype=np.float64)
@@ -195,8 +245,13 @@ def assign_greedy(
         discount(utility, rows, cols, goal, max_range, occupied)
     costs: dict[int, npt.NDArray[np.float64]] = {}
     for robot in robots:
-        dist = distance_field(belief_passable, positions[robot], targets=frontier)
-        cost = dist[rows, cols]
+        if bids is not None and robot in bids:
+            sent = np.full(frontier.shape, np.inf)
+            sent[bids[robot].rows, bids[robot].cols] = bids[robot].costs
+            cost = sent[rows, cols]
+        else:
+            dist = distance_field(belief_passable, positions[robot], targets=frontier)
+            cost = dist[rows, cols]
         cost[(rows == positions[robot][0]) & (cols == positions[robot][1])] = np.inf
         for cell in (unreachable or {}).get(robot, ()):
             cost[(rows == cell[0]) & (cols == cell[1])] = np.inf
@@ -249,6 +304,13 @@ class Burgard(FrontierStrategy):
         "status_period": Param(
             1, "ticks", "with assign=team, each robot reports its position this often", low=1
         ),
+        "protocol": Param(
+            "positions",
+            "",
+            "positions: the coordinator plans on its map from reported positions; bids: "
+            "every robot sends its costs to every frontier cell (the market paper's [3])",
+            choices=("positions", "bids"),
+        ),
         "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks", low=1),
         **FALLBACK_PARAMS,
         **REPLAN_PARAMS,
@@ -260,6 +322,8 @@ class Burgard(FrontierStrategy):
         self.known_positions: dict[int, Cell] = {}
         self.held_goals: dict[int, Cell] = {}
         self.requests: set[int] = set()
+        self.bids: dict[int, BidsPayload] = {}  # protocol=bids: this round's, by robot
+        self.round_opened: int | None = None  # protocol=bids: tick the call went out
         # Member state: when the last request and the last report went out.
         self.requested_at = -1
         self.reported_at = -(10**9)
@@ -281,22 +345,29 @@ class Burgard(FrontierStrategy):
     def _decide(self, view: RobotView) -> Decision:
         coordinator = min(view.subnetwork)
         assignment: Cell | None = None
+        called = False
         for message in view.inbox:
-            if message.type == STATUS and isinstance(message.payload, StatusPayload):
-                status = message.payload
-                self.known_positions[status.robot] = status.position
-                if status.needs_goal:
-                    self.requests.add(status.robot)
-                    self.held_goals.pop(status.robot, None)
-            elif message.type == ASSIGN and isinstance(message.payload, AssignPayload):
-                if message.payload.robot == self.robot_id:
-                    assignment = message.payload.goal
+            payload = message.payload
+            if isinstance(payload, StatusPayload | BidsPayload):
+                self.known_positions[payload.robot] = payload.position
+                if isinstance(payload, BidsPayload):
+                    self.bids[payload.robot] = payload
+                if payload.needs_goal:
+                    self.requests.add(payload.robot)
+                    self.held_goals.pop(payload.robot, None)
+            elif message.type == ASSIGN and isinstance(payload, AssignPayload):
+                if payload.robot == self.robot_id:
+                    assignment = payload.goal
+            elif message.type == BID_CALL:
+                called = message.sender == coordinator
 
         needs_goal = self.needs_plan(view)
         if self.robot_id == coordinator:
             self.watch.stop()
             return self._coordinate(view, needs_goal)
         decision = Decision()
+        if called:  # protocol=bids: the coordinator opened a round
+            decision.messages.append(self._report(view, coordinator, needs_goal=needs_goal))
         if assignment is not None:
             decision = self._follow(view, assignment)
             if decision.goal is not None:
@@ -306,7 +377,7 @@ class Burgard(FrontierStrategy):
             needs_goal = True
         if not needs_goal:
             self.watch.stop()
-            team = self.p["assign"] == "team"
+            team = self.p["assign"] == "team" and self.p["protocol"] == "positions"
             if team and view.tick - self.reported_at >= int(self.p["status_period"]):
                 decision.messages.append(self._status(view, coordinator, needs_goal=False))
             return decision
@@ -319,8 +390,24 @@ class Burgard(FrontierStrategy):
                 return own
         if self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]:
             self.requested_at = view.tick
-            decision.messages.append(self._status(view, coordinator, needs_goal=True))
+            if not called:
+                decision.messages.append(self._report(view, coordinator, needs_goal=True))
         return decision
+
+    def _report(self, view: RobotView, coordinator: int, *, needs_goal: bool) -> Message:
+        """``status`` (``protocol=positions``), or this robot's bids (``bids``)."""
+        if self.p["protocol"] == "positions":
+            return self._status(view, coordinator, needs_goal=needs_goal)
+        frontier = frontier_mask(view.belief)
+        dist = distance_field(passable(view.belief), view.position, targets=frontier)
+        for cell in self.blocked_targets.excluded:
+            dist[cell] = np.inf
+        dist[view.position] = np.inf
+        rows, cols = np.nonzero(frontier & np.isfinite(dist))
+        costs = dist[rows, cols].astype(np.float32)  # float32 on the wire
+        bids = BidsPayload(self.robot_id, view.position, needs_goal, rows, cols, costs)
+        self.reported_at = view.tick
+        return Message(BID, self.robot_id, coordinator, bids_size(rows.size), bids)
 
     def _status(self, view: RobotView, coordinator: int, *, needs_goal: bool) -> Message:
         """This robot's position for the coordinator, and whether it needs a goal."""
@@ -380,6 +467,24 @@ class Burgard(FrontierStrategy):
         frontier = frontier_mask(view.belief)
         chosen = members if self.p["assign"] == "team" else self.requests
         robots = sorted(r for r in chosen if r in self.known_positions)
+        bids: dict[int, BidsPayload] | None = None
+        if self.p["protocol"] == "bids":
+            # The market paper's [3]: "every robot constructs its bids and sends them to
+            # a central executive". A round opens with a call to the team; it is decided
+            # once every robot chosen has bid, or after request_timeout ticks.
+            if self.round_opened is None:
+                self.round_opened = view.tick
+                self.bids = {r: b for r, b in self.bids.items() if r in self.requests}
+                if self.p["assign"] == "team" and len(members) > 1:
+                    call = Message(BID_CALL, self.robot_id, BROADCAST, fixed_size(0), None)
+                    return Decision(messages=[call])
+            late = view.tick - self.round_opened >= int(self.p["request_timeout"])
+            if not late and any(r not in self.bids for r in chosen - {self.robot_id}):
+                return Decision()
+            bids = {r: b for r, b in self.bids.items() if r in chosen}
+            robots = sorted({self.robot_id} & chosen | set(bids))
+            self.round_opened, self.bids = None, {}
+            self.requests -= set(bids)  # served or not, a robot still in need asks again
         max_range = float(self.p["max_range"]) or view.sensor_range
         occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
         assigned = assign_greedy(
@@ -393,6 +498,7 @@ class Burgard(FrontierStrategy):
             normalize_cost=bool(self.p["normalize_cost"]),
             unreachable={self.robot_id: self.blocked_targets.excluded},
             occupied=occupied,
+            bids=bids,
         )
         decision = Decision()
         for robot, goal in assigned.items():
