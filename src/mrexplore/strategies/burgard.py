@@ -83,16 +83,17 @@ Interpretations (where the sources are silent):
   whose centralised baseline is Burgard et al. (its [3]), describes the method as
   "centralized since every robot constructs its bids and sends them to a central
   executive, that tries to maximize the total expected utility ... by assigning them
-  tasks, based on their bids". A robot that needs a goal sends a ``bid`` message: its status item and, for every
-  frontier cell of its own map it can reach, a bid item (cell, path-length cost as
-  float32; ``7 + 8 + 10 n`` bytes). The coordinator then calls the sub-network for
-  bids (``bid_call``, a header, broadcast; with ``assign=team``), every member
-  answers with its bids, and the coordinator assigns once every member has bid (or
-  ``request_timeout`` ticks after the call) from the costs the robots sent: a cell a
-  robot did not bid on is out of its reach. No ``status`` is sent. A robot that
-  asked gets its goal four ticks later (two with ``positions``). ``positions`` (the
-  default) is Burgard et al.'s own setting, where the robots share their maps and
-  poses and the coordinator computes every cost on its map.
+  tasks, based on their bids". A robot that needs a goal sends a ``bid`` message:
+  its status item and, for every frontier cell of its own map it can reach, a bid
+  item (cell, path-length cost as float32; ``7 + 8 + 10 n`` bytes). The coordinator
+  then calls the sub-network for bids (``bid_call``, a header, broadcast; with
+  ``assign=team``), every member answers with its bids, and the coordinator assigns
+  once every member has bid (or ``request_timeout`` ticks after the call) from the
+  costs the robots sent: a cell a robot did not bid on is out of its reach. No
+  ``status`` is sent. A robot that asked gets its goal four ticks later (two with
+  ``positions``). ``positions`` (the default) is Burgard et al.'s own setting, where
+  the robots share their maps and poses and the coordinator computes every cost on
+  its map.
 * Unreliable communication (ours; the papers assume every message arrives): a
   robot that has needed a goal for ``coordinator_timeout`` ticks without an
   assignment it can follow runs the method for a team of one (its own belief,
