@@ -186,8 +186,11 @@ Interpretations (where the paper is silent or does not fit a grid world):
   farthest constraining neighbour beyond ``d2``, stopping in mid-zone
   ``(d1 + d2) / 2``. When every constraining neighbour is within ``d2`` (only the
   memory, or ``always``), the paper gives no rule; the robot nearer the root of the
-  sub-network (:func:`orient`) explores, its path cut to stay within ``d2`` of the
-  others, and the others go with it (to mid-zone from it). ``convoy`` (the earlier
+  sub-network (:func:`orient`) explores the best frontier it reaches without leaving
+  ``d2`` of the others (else its best frontier, the path cut there), and the others
+  go with it (to mid-zone from it). (Choosing the best frontier first and cutting
+  the path after left a chain of six, every link a bridge under ``always``, holding
+  forever: every end's best frontier lay beyond ``d2``, measured.) ``convoy`` (the earlier
   reading) orients each constraint towards the lowest id of the sub-network (the
   *root*, by hop distance, then id; :func:`orient`): the endpoint nearer the root
   *leads*. A
@@ -205,7 +208,12 @@ Interpretations (where the paper is silent or does not fit a grid world):
   robot with the lower id keeps the frontier it is heading for and the other one
   returns (searches the zone between them, or moves towards it). If both turned at
   once, two robots whose frontiers lie farther apart than ``d3`` swapped frontiers
-  forever.
+  forever. The same rule holds for every change of behaviour that makes a robot
+  choose again (under ``replan_on_behaviour=any`` also into and out of
+  avoid-collision): the robot whose id is lower than that of every partner
+  constraining it keeps its frontier, the others choose again (all choosing at once
+  chased each other's comfort zones or cycled at ``d1`` forever: the chase and the
+  chatter, measured).
 * **Aborted frontiers.** A robot that gives up its frontier because a constraint
   starts (into achieve-connectivity, or a neighbour lost) or because a robot blocks
   its way (the simulator stopped it: avoid-collision's constraint) leaves that frontier,
@@ -230,12 +238,18 @@ Interpretations (where the paper is silent or does not fit a grid world):
   reconnected. If both left theirs (``both-leave``, the earlier reading), two robots
   whose frontiers lie farther apart than ``d3`` took each other's on reconnecting,
   crossed and broke the link again, forever (measured under
-  ``replan_on_behaviour=connectivity`` and ``reroute-collision``). A frontier is kept
-  once: if the link breaks again on the way to it, the lower id leaves it too (else
-  three robots in a chain whose links flicker at the range took the same frontiers
-  back every tick, measured). (Only the higher one going back, the lower waiting,
-  would split a chain whose middle robot has the highest id: it cannot return to
-  both ends at once, measured.)
+  ``replan_on_behaviour=connectivity`` and ``reroute-collision``). A resumed frontier
+  is kept again only for progress: if the link breaks again before the robot's path
+  to it is shorter than it has ever been (at a resume or at an earlier kept break),
+  the lower id leaves it too. Each keep needs a new record, so a frontier is kept a
+  finite number of times (else three robots in a chain whose links flicker at the
+  range took the same frontiers back every tick, measured). (Keeping a frontier only
+  once, our previous rule, gave it up on a second break however far the robot had
+  come, and the higher id took it: the swap again, measured with
+  ``utility_unit=cells``, 2 robots.)
+  (Only the higher one going back, the lower waiting, would split a chain whose
+  middle robot has the highest id: it cannot return to both ends at once,
+  measured.)
 * **Utility reduction.** "The utility expected by a robot considering moving to a
   particular frontier is lessened if there are any robots near that destination":
   unknown cells within ``R`` of another robot's announced destination (Simmons et
@@ -786,7 +800,8 @@ class VazquezNetwork(Strategy):
         self.previous_neighbours: frozenset[int] = frozenset()
         self.lost: dict[int, tuple[Cell, int]] = {}  # neighbour -> (last cell, tick lost)
         self.kept: Cell | None = None  # the frontier kept while going back to the lost
-        self.resumed: Cell | None = None  # the last kept frontier resumed (kept once only)
+        self.resumed: Cell | None = None  # the last kept frontier resumed
+        self.resumed_left = 0  # its least path left at a resume or kept break (to beat)
         self.remembered: dict[int, int] = {}  # partner -> constrained until this tick
         self.stretched: frozenset[int] = frozenset()  # bridge partners beyond d2 last tick
         self.aborted: dict[Cell, int] = {}  # frontier given up for a constraint -> until tick
@@ -964,7 +979,6 @@ class VazquezNetwork(Strategy):
             collision_distance=d1,
             disconnected=bool(self.lost),
         )
-        previous = self.behaviour
         replan = self.p["replan_on_behaviour"]
         changed = {behaviour, self.behaviour}
         switched = behaviour != self.behaviour and (
@@ -976,21 +990,21 @@ class VazquezNetwork(Strategy):
         pair = self.stretched | partners
         if (
             switched
-            and ACHIEVE_CONNECTIVITY in (behaviour, previous)
             and not self.lost
             and self.mode in (EXPLORE, LEAD)
             and pair
             and self.robot_id < min(pair)
         ):
-            # The lower id of a stretched pair keeps its frontier, as the pair stretches
-            # and as it comes back; the other returns to it (two robots turning at once
-            # swap frontiers forever when theirs lie apart).
+            # The lower id of a constrained pair keeps its frontier on any change of
+            # behaviour, as the pair stretches and as it comes back; the other returns to
+            # it (two robots turning at once swap frontiers, or chase each other's comfort
+            # zones, forever).
             switched = False
 
         if conflict or lost_changed or switched or self._needs_plan(view):
             # A plan given up to a constraint: the network's, or a robot in the way.
             constrained_now = switched and behaviour == ACHIEVE_CONNECTIVITY
-            gave_up = constrained_now or (lost_changed and not self._keeps()) or view.blocked
+            gave_up = constrained_now or (lost_changed and not self._keeps(view)) or view.blocked
             if gave_up and self.mode in (EXPLORE, LEAD) and not view.arrived:
                 self._abort(view)
             decision = self._plan(view, roles, partners, close, d1, d2)
@@ -1075,13 +1089,18 @@ class VazquezNetwork(Strategy):
         """The exploration algorithm (§3.2) under the current behaviour's constraints."""
         self.last_plan_tick = view.tick
         if self.lost:  # achieve-connectivity after a disconnection: go back
-            if self._keeps():
+            if self._keeps(view):
+                if self.kept is None and self.destination == self.resumed:
+                    self.resumed_left = view.path_remaining  # the record to beat next time
                 self.kept = self.kept or self.destination
             return self._return(view, roles, partners, close, d1, d2)
         kept, self.kept = self.kept, None
         if kept is not None and frontier_at(view.belief, *kept):  # back: resume it
             dist = distance_field(self._grid(view, close), view.position)
             if 0 < dist[kept] < math.inf:
+                left = int(dist[kept])
+                again = kept == self.resumed
+                self.resumed_left = min(self.resumed_left, left) if again else left
                 self.resumed = kept
                 return self._go(view, EXPLORE, extract_path(dist, kept), kept)
         frontier = frontier_mask(view.belief)
@@ -1242,7 +1261,15 @@ class VazquezNetwork(Strategy):
         if leader_cells:
             radius = float(self.p["follow_distance"])
             return self._towards(view, FOLLOW, leader_cells[0], radius, close)
-        found = self._evaluate(view, frontier, close)
+        found = None
+        if self.p["no_frontier_rule"] == "approach" and follower_cells:
+            # The end explores "its path kept within d2 of the others": a frontier it can
+            # reach without leaving d2 of any of them, if there is one (choosing first and
+            # cutting the path after left a chain whose best frontiers lay beyond d2
+            # holding forever, measured: constrain_bridges=always, 6 robots).
+            reach = within_distance(view.belief.shape, follower_cells, d2)
+            found = self._evaluate(view, frontier, close, reach)
+        found = found or self._evaluate(view, frontier, close)
         if found is None:
             return self._hold(view)
         dist, cells, value = found
@@ -1267,13 +1294,15 @@ class VazquezNetwork(Strategy):
         path = cut_path_near(extract_path(dist, cell), point, radius)
         return self._go(view, mode, path, None)
 
-    def _keeps(self) -> bool:
+    def _keeps(self, view: RobotView) -> bool:
         """Disconnected, and the lower id of every broken link
         (``broken_bridge_frontier=lower-keeps``): it goes back keeping its frontier, to
-        resume it once reconnected, unless it is already heading for a frontier it
-        resumed (kept once: a link that breaks again on the way gives it up)."""
+        resume it once reconnected, unless it is heading for a frontier it resumed and
+        its path there is no shorter than its record (:attr:`resumed_left`, the least
+        path left at a resume or an earlier kept break): no progress, no keep."""
         lower = self.p["broken_bridge_frontier"] == "lower-keeps"
-        again = self.destination is not None and self.destination == self.resumed
+        resumed = self.destination is not None and self.destination == self.resumed
+        again = resumed and view.path_remaining >= self.resumed_left
         return lower and bool(self.lost) and self.robot_id < min(self.lost) and not again
 
     def _return(
