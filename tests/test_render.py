@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from mrexplore.experiments.reproduce import render
+from mrexplore.experiments.reproduce.base import Reproduction
 from mrexplore.experiments.reproduce.claims import Claim, Means
 from mrexplore.experiments.stats import summarize_metric
 from mrexplore.viz.plots import plot_arm_lines
@@ -101,7 +102,8 @@ def test_experiment_builds_its_sweep() -> None:
     experiment = render.Experiment(
         "e", {"map": "office", "size": "30x30", "strategy": "kme"}, {"robots": [2, 3]}, (4, 5), 10
     )
-    sweeps = render.sweeps_for("paper", lambda quick: [experiment])(False)
+    reproduction = Reproduction("paper", "T", "C", lambda quick: [experiment], lambda *_: Path())
+    sweeps = reproduction.sweeps(False)
     assert list(sweeps) == ["e"]
     runs = sweeps["e"].runs()
     assert len(runs) == 4 and sweeps["e"].curves_every == 10

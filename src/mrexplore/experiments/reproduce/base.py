@@ -1,4 +1,4 @@
-"""What every paper reproduction is made of: a :class:`Reproduction` names its sweeps (at
+"""What every paper reproduction is made of: a :class:`Reproduction` names its experiments (at
 the paper's settings or a reduced ``quick`` size) and a report function that writes
 ``report.md`` from their stores; :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
 (resumably) and writes the report.
@@ -6,7 +6,7 @@ the paper's settings or a reduced ``quick`` size) and a report function that wri
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -18,6 +18,7 @@ from mrexplore.experiments.sweep import Sweep
 
 if TYPE_CHECKING:
     from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values
+    from mrexplore.experiments.reproduce.render import Experiment
 
 
 @dataclass(frozen=True)
@@ -27,8 +28,8 @@ class Reproduction:
     id: str
     title: str
     citation: str
-    sweeps: Callable[[bool], Mapping[str, Sweep]]
-    """``quick -> {experiment name: sweep}``."""
+    experiments: Callable[[bool], Iterable[Experiment]]
+    """``quick -> the experiments``, in the report's order."""
     report: Callable[[Mapping[str, Store], Path, bool], Path]
     """``(stores by experiment, out dir, quick) -> path of report.md``."""
     claims: Sequence[Claim] = ()
@@ -37,6 +38,10 @@ class Reproduction:
     """``(stores by experiment, quick) -> metric -> values`` the claims read."""
     interpretations: Sequence[Interpretation] = ()
     """Alternative readings of the paper the claims are also judged under."""
+
+    def sweeps(self, quick: bool) -> dict[str, Sweep]:
+        """``experiment name -> sweep``, in order."""
+        return {e.name: e.sweep(self.id) for e in self.experiments(quick)}
 
     def interpretation_names(self) -> list[str]:
         return [i.name for i in self.interpretations]

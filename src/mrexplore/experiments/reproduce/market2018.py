@@ -247,9 +247,6 @@ def experiments(quick: bool) -> list[Experiment]:
     ]
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 #: Our choices where the paper is silent, as the report's settings section lists them.
 _NOTES = f"""
 *Maps*: the paper's Fig. 9 environments are not in our copy. We take two real indoor maps (Intel
@@ -389,4 +386,6 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     return render.write_report(out, lines, CLAIMS, teams)
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+)

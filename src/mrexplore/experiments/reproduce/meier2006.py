@@ -108,9 +108,6 @@ def experiments(quick: bool) -> list[Experiment]:
     return out
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 # ------------------------------------------------------------------ arms and metrics
 
 SR, CENTRALISED, EXACT, RAW, RAW_HALF = "SR", "centralised", "no-approximation", "raw", "raw-181"
@@ -398,4 +395,6 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     return render.write_report(out, lines, CLAIMS, t)
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+)

@@ -49,13 +49,6 @@ class Experiment:
         return sweep_from_dict(data, source=f"{source}:{self.name}")
 
 
-def sweeps_for(
-    source: str, experiments: Callable[[bool], Iterable[Experiment]]
-) -> Callable[[bool], dict[str, Sweep]]:
-    """A reproduction's ``sweeps``: ``quick -> experiment name -> sweep``, in order."""
-    return lambda quick: {e.name: e.sweep(source) for e in experiments(quick)}
-
-
 def text_rows(text: str) -> list[list[str]]:
     """The rows of an ``a | b | c`` text table; an indented line continues its row."""
     return [row.split(" | ") for row in text.replace("\n  ", " ").strip().splitlines()]

@@ -316,9 +316,6 @@ def experiments(quick: bool) -> list[Experiment]:
     ]
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 # ------------------------------------------------------------------------ report
 def _settings(quick: bool) -> str:
     seeds = {k: f"{n} seed{'s' * (n > 1)}" for k, n in (QUICK_SEEDS if quick else SEEDS).items()}
@@ -450,4 +447,6 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     return render.write_report(out, lines, CLAIMS, values)
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+)

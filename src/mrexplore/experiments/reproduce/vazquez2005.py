@@ -143,9 +143,6 @@ def experiments(quick: bool) -> list[Experiment]:
     return out
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 class Metres(float):
     """A radio range in metres, printed with its unit (in the names of cells)."""
 
@@ -392,4 +389,6 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     return render.write_report(out, lines, CLAIMS, values)
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+)

@@ -78,9 +78,6 @@ def experiments(quick: bool) -> list[render.Experiment]:
     ]
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 # ------------------------------------------------------------- per-run numbers
 
 
@@ -328,4 +325,6 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     return render.write_report(out, lines, CLAIMS, tables(stores, quick))
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+)
