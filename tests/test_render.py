@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from mrexplore.experiments.reproduce import render
-from mrexplore.experiments.reproduce.base import Reproduction
+from mrexplore.experiments.reproduce.base import Reproduction, write_report
 from mrexplore.experiments.reproduce.claims import Claim, Means
 from mrexplore.experiments.stats import summarize_metric
 from mrexplore.viz.plots import plot_arm_lines
@@ -92,17 +92,22 @@ def test_settings_head_and_report(tmp_path: Path) -> None:
     assert "Runs: complete 3." in head[-2]
     assert not any("Quick run" in line for line in render.report_head("T", "C", {}, None))
     claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T99", "a", "b", Means("<"))
-    path = render.write_report(tmp_path, [*head, *settings], [claim], {"time": _values()["time"]})
+    tables = {"time": _values()["time"]}
+    paper = Reproduction("p", "T", "C", list, lambda *_: settings, lambda *_: tables, [claim])
+    path = write_report(paper, {"default": {}}, tmp_path, quick=True)
     text = path.read_text()
-    assert path == tmp_path / "report.md" and "## Verdicts" in text
+    assert path == tmp_path / "report.md" and text.startswith("# Reproduction: T\n")
+    assert "Runs: none." in text and "Quick run" not in text  # no quick note to give
+    assert "\n".join(settings) in text and "## Verdicts" in text
     assert "- **reproduced**: §1: a is faster" in text  # a < b in both cells
+    assert text.endswith("Only the default reading was run (`--interpretations none`).\n")
 
 
 def test_experiment_builds_its_sweep() -> None:
     experiment = render.Experiment(
         "e", {"map": "office", "size": "30x30", "strategy": "kme"}, {"robots": [2, 3]}, (4, 5), 10
     )
-    reproduction = Reproduction("paper", "T", "C", lambda quick: [experiment], lambda *_: Path())
+    reproduction = Reproduction("paper", "T", "C", lambda quick: [experiment], list, dict)
     sweeps = reproduction.sweeps(False)
     assert list(sweeps) == ["e"]
     runs = sweeps["e"].runs()

@@ -16,7 +16,7 @@ from mrexplore.cli import main
 from mrexplore.experiments.reproduce import claims as c
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import meier2006 as m
-from mrexplore.experiments.reproduce.base import interpret
+from mrexplore.experiments.reproduce.base import interpret, write_report
 
 OUTCOMES = ("reproduced", "partly", "not reproduced")
 FIGURES = (
@@ -229,7 +229,7 @@ def test_run_values_and_claim_tables() -> None:
 
 
 def test_report_without_runs(tmp_path: Path) -> None:
-    text = m.report({}, tmp_path, quick=True).read_text()
+    text = write_report(m.REPRODUCTION, {"default": {}}, tmp_path, quick=True).read_text()
     assert "## Verdicts" in text and "holds in 0/0 cells" in text
     for name in FIGURES:  # a figure with no panel is not drawn, nor linked
         assert (tmp_path / name).exists() is (f"]({name})" in text), name

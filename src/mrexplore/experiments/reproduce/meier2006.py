@@ -338,10 +338,9 @@ def _with_paper(ours: Mapping[str, Summary], paper: Mapping[float, float]) -> di
     return {"ours": _xs(ours)["polygon"], "paper": _xs(theirs)["polygon"]}
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    out, (rows, statuses) = Path(out), render.rows_of(stores)
-    values = run_values(rows, quick)
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
+    """The report's sections, its figures written into ``out``."""
+    values = run_values(render.rows_of(stores)[0], quick)
     t = claim_tables(values, quick)
     s = {metric: render.summaries(v) for metric, v in {**values, **t}.items()}
     one, fig7, low = next(iter(t["error"])), next(iter(t["traffic"])), f"{SR} {LOW_SPLIT_RATE:g}"
@@ -361,8 +360,7 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         for c, x in s["rate"].items()
         if c in t["time"] and low in x
     ]
-    lines = render.report_head(TITLE, CITATION, statuses, QUICK_NOTE if quick else None)
-    lines += [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
+    lines = [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
     lines += ["Ours: T99 (ticks); `*`: some runs never reached 99% and are left out.", ""]
     lines += table(t["time"], flags=render.unfinished(values["reached"]))
     panels = {name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
@@ -391,10 +389,9 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     lines += ["## Table 2: approximation error (%)", "", f"Paper: {paper2}.", ""]
     lines += table(errors, ["error"], digits=2)
     panels = {"Table 2": _with_paper(s["error"][one], PAPER_TABLE2)}
-    lines += figure("table2_approximation_error.png", "Table 2", panels, "error (%)", True)
-    return render.write_report(out, lines, CLAIMS, t)
+    return lines + figure("table2_approximation_error.png", "Table 2", panels, "error (%)", True)
 
 
 REPRODUCTION = Reproduction(
-    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
 )

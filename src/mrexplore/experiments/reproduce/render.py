@@ -1,6 +1,6 @@
 """What every reproduction report is built from: its :class:`Experiment` objects, per-run
 metrics grouped ``cell -> arm -> seed`` by :func:`tabulate` (the claims' ``Values``), and the
-Markdown pieces of ``report.md``, which :func:`write_report` ends with the claims' verdicts.
+Markdown pieces of ``report.md`` (:func:`~mrexplore.experiments.reproduce.base.write_report`).
 """
 
 from __future__ import annotations
@@ -13,14 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mrexplore.experiments.reproduce.claims import (
-    CellKey,
-    Claim,
-    Interpretation,
-    Values,
-    claims_section,
-    fmt,
-)
+from mrexplore.experiments.reproduce.claims import CellKey, Interpretation, Values, fmt
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -254,15 +247,6 @@ def report_head(
     counts = ", ".join(f"{k} {v}" for k, v in statuses.items()) or "none"
     written = f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: {counts}."
     return [*lines, f"Citation: {citation}", "", written, ""]
-
-
-def write_report(
-    out: Path, lines: Lines, claims: Sequence[Claim], tables: Mapping[str, Values]
-) -> Path:
-    """``out/report.md``: ``lines``, then the verdict section of ``claims``."""
-    path = Path(out) / "report.md"
-    path.write_text("\n".join([*lines, *claims_section(claims, tables), ""]))
-    return path
 
 
 # -------------------------------------------------------------------------- figures

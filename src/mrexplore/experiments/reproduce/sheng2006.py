@@ -18,7 +18,7 @@ from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Ro
 from mrexplore.experiments.store import Store
 
 ID = "sheng2006"
-TITLE = "Distributed multi-robot coordination in area exploration"
+TITLE = "Sheng et al. (2006), Distributed multi-robot coordination in area exploration"
 CITATION = (
     'W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area '
     'exploration", Robotics and Autonomous Systems 54 (2006) 945-955.'
@@ -419,17 +419,16 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
     return lines
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    out, values = Path(out), tables(stores, quick)
-    note = (
-        f"{QUICK_SEEDS['fig11']} seeds for Figs. 11-13 and {QUICK_SEEDS['table4']} for Table 4 "
-        f"and Fig. 17, team sizes {' and '.join(map(str, QUICK_TEAM_SIZES))}, r_c = "
-        + ", ".join(map(str, QUICK_RANGES))
-    )
-    title, statuses = f"Sheng et al. (2006), {TITLE}", render.rows_of(stores)[1]
-    lines = render.report_head(title, CITATION, statuses, note if quick else None)
-    lines += render.settings_table(_settings(quick))
+QUICK_NOTE = (
+    f"{QUICK_SEEDS['fig11']} seeds for Figs. 11-13 and {QUICK_SEEDS['table4']} for Table 4 "
+    f"and Fig. 17, team sizes {' and '.join(map(str, QUICK_TEAM_SIZES))}, r_c = "
+    + ", ".join(map(str, QUICK_RANGES))
+)
+
+
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
+    """The report's sections, its figures written into ``out``."""
+    values, lines = tables(stores, quick), render.settings_table(_settings(quick))
     for heading, wheres in SECTIONS.items():
         here = [c for c in CLAIMS if c.where in wheres]
         quotes = " ".join(f'"{c.sentence}."' for c in here)
@@ -444,9 +443,9 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
                 axes = {"xlabel": xlabel, "ylabel": ylabel, "colours": COLOURS}
                 lines += render.figure(out, name, panels, title=caption, **axes)
         lines += _table4(values, out) if "Table 4" in wheres else []
-    return render.write_report(out, lines, CLAIMS, values)
+    return lines
 
 
 REPRODUCTION = Reproduction(
-    ID, TITLE, CITATION, experiments, report, CLAIMS, tables, INTERPRETATIONS
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
 )
