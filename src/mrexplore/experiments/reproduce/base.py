@@ -6,6 +6,7 @@ the paper's settings or a reduced ``quick`` size) and the sections of its report
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -14,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 from mrexplore.experiments.driver import run_sweep
 from mrexplore.experiments.engines import make_engine
 from mrexplore.experiments.reproduce.claims import claims_section, robustness_section
-from mrexplore.experiments.reproduce.render import report_head, rows_of
+from mrexplore.experiments.reproduce.render import rows_of
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep
 
@@ -140,14 +141,23 @@ def reproduce(
 def write_report(
     reproduction: Reproduction, readings: Mapping[str, Mapping[str, Store]], out: Path, quick: bool
 ) -> Path:
-    """``out/report.md``: the head, the sections and the claims' verdicts from the stores of the
-    ``default`` reading, then the claims under every reading (``readings``: name -> stores by
-    experiment, the default first)."""
+    """``out/report.md``: the head (title, quick-run warning, citation, runs by status), the
+    sections and the claims' verdicts from the stores of the ``default`` reading, then the claims
+    under every reading (``readings``: name -> stores by experiment, the default first)."""
     r, stores = reproduction, readings["default"]
-    head = report_head(r.title, r.citation, rows_of(stores)[1], r.quick_note if quick else None)
+    lines = [f"# Reproduction: {r.title}", ""]
+    if quick and r.quick_note:
+        lines += [
+            f"> **Quick run** (`--quick`): {r.quick_note}. Its verdicts are indicative only; run "
+            "without `--quick` for the full settings.",
+            "",
+        ]
+    counts = ", ".join(f"{k} {v}" for k, v in rows_of(stores)[1].items()) or "none"
+    written = f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: {counts}."
+    lines += [f"Citation: {r.citation}", "", written, "", *r.report(stores, out, quick)]
     tables = {name: r.tables(s, quick) for name, s in readings.items()}
-    lines = [*head, *r.report(stores, out, quick), *claims_section(r.claims, tables["default"])]
-    lines += ["", *robustness_section(r.claims, tables, r.interpretations)]
+    lines += [*claims_section(r.claims, tables["default"]), ""]
+    lines += robustness_section(r.claims, tables, r.interpretations)
     path = out / "report.md"
     path.write_text("\n".join(lines))
     return path

@@ -17,7 +17,7 @@ import numpy as np
 from mrexplore.comm.bytes import HEADER_BYTES, SCAN_BEAM_BYTES
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import Claim, Values, family, fmt, level
+from mrexplore.experiments.reproduce.claims import Claim, Values, cell_name, family, fmt, level
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row, number
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
@@ -348,22 +348,19 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
     def table(cells: Values, columns: Sequence[str] = ("map", "robots"), **options: Any) -> Lines:
         return [*render.arm_table(cells, ARMS, list(columns), **options), ""]
 
-    def name(cell: Any) -> str:
-        return f"{cell[0]}/{cell[1]}r"
-
     def figure(file: str, title: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
         axes = {"xlabel": "split rate (splits/s)", "ylabel": ylabel, "colours": COLOURS, "log": log}
         return render.figure(out, file, panels, title=title, logx=True, **axes)
 
     ratios = [
-        f"{name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
+        f"{cell_name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
         for c, x in s["rate"].items()
         if c in t["time"] and low in x
     ]
     lines = [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
     lines += ["Ours: T99 (ticks); `*`: some runs never reached 99% and are left out.", ""]
     lines += table(t["time"], flags=render.unfinished(values["reached"]))
-    panels = {name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
+    panels = {cell_name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
     lines += figure("fig6_exploration_time.png", "Fig. 6", panels, "T99 (ticks)")
     lines += ["## Traffic (§2, §5.2, §5.3, Fig. 7)", "", TRAFFIC + ", ".join(ratios), ""]
     for text, metric, digits in (
@@ -372,11 +369,11 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
         ("Map-sharing bytes per run (all but TPT, `status`, `assign`)", "map_bytes", 0),
     ):
         lines += [f"{text}:", "", *table(values[metric], digits=digits)]
-    panels = {name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
+    panels = {cell_name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
     lines += figure("fig7_traffic.png", "Fig. 7", panels, "bytes per run", log=True)
     paper1 = [[f"{r:g}", *(f"{v:.2f}" for v in row.values())] for r, row in PAPER_TABLE1.items()]
     lines += ["## Table 1: share (%) of the bytes by package type", "", "Paper:", ""]
-    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({name(one)}):", ""]
+    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({cell_name(one)}):", ""]
     lines += table(t["shares"], ["package"], digits=2)
     panels = {
         p: _with_paper(s["shares"][(p,)], {r: row[p] for r, row in PAPER_TABLE1.items()})

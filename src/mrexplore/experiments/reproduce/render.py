@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -231,22 +230,6 @@ def settings_table(rows: str | Iterable[Sequence[str]], notes: Sequence[str] = (
         lines += ["Choices where the paper is silent or our world differs:", ""]
         lines += [f"- {note}" for note in notes] + [""]
     return lines
-
-
-def report_head(
-    title: str, citation: str, statuses: Mapping[str, int], quick_note: str | None
-) -> Lines:
-    """Title, the quick-run warning, the citation and the runs by status."""
-    lines = [f"# Reproduction: {title}", ""]
-    if quick_note:
-        lines += [
-            f"> **Quick run** (`--quick`): {quick_note}. Its verdicts are indicative "
-            "only; run without `--quick` for the full settings.",
-            "",
-        ]
-    counts = ", ".join(f"{k} {v}" for k, v in statuses.items()) or "none"
-    written = f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: {counts}."
-    return [*lines, f"Citation: {citation}", "", written, ""]
 
 
 # -------------------------------------------------------------------------- figures
