@@ -30,6 +30,7 @@ class Reproduction:
 
     id: str
     title: str
+    """The report's title (the paper's, with its authors where they help)."""
     citation: str
     experiments: Callable[[bool], Iterable[Experiment]]
     """``quick -> the experiments``, in the report's order."""
