@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
+import pyarrow as pa
 import pytest
 
 from mrexplore.experiments.reproduce import render
+from mrexplore.experiments.reproduce.base import Reproduction, write_report
 from mrexplore.experiments.reproduce.claims import Claim, Means
 from mrexplore.experiments.stats import summarize_metric
 from mrexplore.viz.plots import plot_arm_lines
@@ -86,22 +90,32 @@ def test_settings_head_and_report(tmp_path: Path) -> None:
     settings = render.settings_table([("robots", "2-8", "2, 4")], ["*Maps*: ours."])
     assert settings[:4] == ["## Settings", "", "| setting | paper | ours |", "|---|---|---|"]
     assert "| robots | 2-8 | 2, 4 |" in settings and "- *Maps*: ours." in settings
-    head = render.report_head("T", "C", {"complete": 3}, "2 seeds")
-    assert head[0] == "# Reproduction: T" and "**Quick run** (`--quick`): 2 seeds" in head[2]
-    assert "Runs: complete 3." in head[-2]
-    assert not any("Quick run" in line for line in render.report_head("T", "C", {}, None))
     claim = Claim("c", "§1", "a is faster", "a is fast", "time", "T99", "a", "b", Means("<"))
-    path = render.write_report(tmp_path, [*head, *settings], [claim], {"time": _values()["time"]})
+    tables = {"time": _values()["time"]}
+    paper = Reproduction("p", "T", "C", list, lambda *_: settings, lambda *_: tables, [claim])
+    path = write_report(paper, {"default": {}}, tmp_path, quick=True)
     text = path.read_text()
-    assert path == tmp_path / "report.md" and "## Verdicts" in text
+    assert path == tmp_path / "report.md" and text.startswith("# Reproduction: T\n\nCitation: C\n")
+    assert "Runs: none." in text and "Quick run" not in text  # no quick note to give
+    assert "\n".join(settings) in text and "## Verdicts" in text
     assert "- **reproduced**: §1: a is faster" in text  # a < b in both cells
+    assert text.endswith("Only the default reading was run (`--interpretations none`).\n")
+    runs = pa.table({"run_id": ["a", "b", "c"], "status": ["complete", "failed", "complete"]})
+    store = SimpleNamespace(query=lambda sql: runs)  # what rows_of reads of a store
+    noted = replace(paper, quick_note="2 seeds")
+    head = write_report(noted, {"default": {"e": store}}, tmp_path, quick=True).read_text()
+    assert head.startswith("# Reproduction: T\n\n> **Quick run** (`--quick`): 2 seeds. Its")
+    assert "Runs: complete 2, failed 1." in head
+    slow = write_report(noted, {"default": {"e": store}}, tmp_path, quick=False).read_text()
+    assert "Quick run" not in slow and "Runs: complete 2, failed 1." in slow
 
 
 def test_experiment_builds_its_sweep() -> None:
     experiment = render.Experiment(
         "e", {"map": "office", "size": "30x30", "strategy": "kme"}, {"robots": [2, 3]}, (4, 5), 10
     )
-    sweeps = render.sweeps_for("paper", lambda quick: [experiment])(False)
+    reproduction = Reproduction("paper", "T", "C", lambda quick: [experiment], list, dict)
+    sweeps = reproduction.sweeps(False)
     assert list(sweeps) == ["e"]
     runs = sweeps["e"].runs()
     assert len(runs) == 4 and sweeps["e"].curves_every == 10

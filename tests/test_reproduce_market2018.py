@@ -86,7 +86,7 @@ def test_registered() -> None:
 
 
 def test_full_sweeps_cover_the_arms_maps_and_team_sizes() -> None:
-    sweeps = repro.sweeps(False)
+    sweeps = repro.REPRODUCTION.sweeps(False)
     maps = ("intel", "house", "office")
     arms = ("centralised", "decentralised", "rrt", "timer")
     assert list(sweeps) == [f"{m}-{a}" for m in maps for a in arms]
@@ -194,5 +194,5 @@ def test_full_reproduction(tmp_path: Path) -> None:
     assert main(["reproduce", "market2018", "--out", str(tmp_path), "--no-progress"]) == 0
     text = _check_report(tmp_path)
     assert "**Quick run**" not in text
-    for name in repro.sweeps(False):
+    for name in repro.REPRODUCTION.sweeps(False):
         assert (tmp_path / name / "runs").is_dir()

@@ -16,7 +16,7 @@ from mrexplore.cli import main
 from mrexplore.experiments.reproduce import claims as c
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import meier2006 as m
-from mrexplore.experiments.reproduce.base import interpret
+from mrexplore.experiments.reproduce.base import interpret, write_report
 
 OUTCOMES = ("reproduced", "partly", "not reproduced")
 FIGURES = (
@@ -54,7 +54,7 @@ def test_quick_reproduction_through_cli(tmp_path: Path) -> None:
     argv = ["reproduce", "meier2006", "--quick", "--out", str(tmp_path), "--no-progress"]
     assert main([*argv, "--interpretations", READING]) == 0
     text = _check_report(tmp_path, quick=True)
-    for name in m.sweeps(True):
+    for name in m.REPRODUCTION.sweeps(True):
         assert (tmp_path / name / "runs").is_dir()
     robustness = text.split("## Robustness to the readings of the paper", 1)[1]
     assert f"| claim | default | {READING} | summary |" in robustness
@@ -84,7 +84,7 @@ def test_registered() -> None:
 
 
 def test_sweeps_full_and_quick() -> None:
-    full = m.sweeps(False)
+    full = m.REPRODUCTION.sweeps(False)
     assert list(full) == [
         f"{key}_{kind}"
         for key in ("unstructured3", "corridor5", "two_robots")
@@ -99,7 +99,7 @@ def test_sweeps_full_and_quick() -> None:
     for strategy in ("burgard", "meier-polygon"):
         runs = full[f"corridor5_baselines-{strategy}"].runs()
         assert {(s.scenario.strategy, s.scenario.sharing) for s in runs} == {(strategy, "full")}
-    quick = m.sweeps(True)
+    quick = m.REPRODUCTION.sweeps(True)
     assert set(quick) == {
         "quick_polygon",
         "quick_baselines-burgard",
@@ -112,7 +112,7 @@ def test_sweeps_full_and_quick() -> None:
 
 def test_quick_sweeps_are_the_runs_of_before() -> None:
     """The split-rate sweep is unchanged; the baselines are the old sweep split by strategy."""
-    polygon = m.sweeps(True)["quick_polygon"]
+    polygon = m.REPRODUCTION.sweeps(True)["quick_polygon"]
     assert polygon.fixed["strategy"] == "meier-polygon" and polygon.fixed["max_ticks"] == 1000
     assert polygon.grid == {
         "map": ["unstructured", "corridor"],
@@ -126,14 +126,14 @@ def test_the_tolerance_reading_changes_the_polygon_runs_only_and_keeps_their_rat
     reading ``epsilon-half-cell`` sets the sharing parameter of the polygon sweeps only."""
     reading = next(i for i in m.INTERPRETATIONS if i.name == "epsilon-half-cell")
     assert reading.share == {"epsilon": 0.5} and not reading.set
-    for name, sweep in m.sweeps(True).items():
+    for name, sweep in m.REPRODUCTION.sweeps(True).items():
         changed = interpret(sweep, reading)
         assert (changed is not None) == name.endswith("_polygon"), name
         if changed is not None:
             shares = [spec.scenario.sharing_params for spec in changed.runs()]
             assert {s["epsilon"] for s in shares} == {0.5}
             assert {s["split_rate"] for s in shares} == {0.1, 1.0, 10.0}
-    default = m.sweeps(True)["quick_polygon"].runs()[0].scenario
+    default = m.REPRODUCTION.sweeps(True)["quick_polygon"].runs()[0].scenario
     assert "epsilon" not in default.sharing_params  # the mechanism's default, 0
 
 
@@ -229,7 +229,7 @@ def test_run_values_and_claim_tables() -> None:
 
 
 def test_report_without_runs(tmp_path: Path) -> None:
-    text = m.report({}, tmp_path, quick=True).read_text()
+    text = write_report(m.REPRODUCTION, {"default": {}}, tmp_path, quick=True).read_text()
     assert "## Verdicts" in text and "holds in 0/0 cells" in text
     for name in FIGURES:  # a figure with no panel is not drawn, nor linked
         assert (tmp_path / name).exists() is (f"]({name})" in text), name

@@ -62,7 +62,7 @@ def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_quick_reproduction_writes_the_report(quick_run: Path) -> None:
     text = _check_report(quick_run)
     assert "**Quick run**" in text.split("## Settings")[0]
-    for name in repro.sweeps(True):
+    for name in repro.REPRODUCTION.sweeps(True):
         assert (quick_run / name / "runs").is_dir()
         assert (quick_run / "readings" / READING / name / "runs").is_dir()
     robustness = text.split("## Robustness to the readings of the paper", 1)[1]
@@ -84,7 +84,7 @@ def test_registered() -> None:
 
 
 def test_full_sweeps_have_the_papers_run_counts() -> None:
-    sweeps = repro.sweeps(False)
+    sweeps = repro.REPRODUCTION.sweeps(False)
     counts = {name: len(sweep) for name, sweep in sweeps.items()}
     assert counts == {
         "fig11": 2 * 8,  # two cases, eight runs
@@ -110,12 +110,12 @@ def test_full_sweeps_have_the_papers_run_counts() -> None:
     fig17 = sweeps["fig17"].runs()
     assert sorted({s.scenario.comm_range for s in fig17}) == [4, 8, 12, 16, 20, 24]
     assert {s.scenario.comm_range for s in sweeps["fig11"].runs()} == {16}
-    assert sum(len(sweep) for sweep in repro.sweeps(True).values()) == 28
+    assert sum(len(sweep) for sweep in repro.REPRODUCTION.sweeps(True).values()) == 28
 
 
 def test_every_interpretation_changes_whole_sweeps_and_its_strategies_only() -> None:
     for reading in repro.INTERPRETATIONS:
-        for name, sweep in repro.sweeps(True).items():
+        for name, sweep in repro.REPRODUCTION.sweeps(True).items():
             changed = interpret(sweep, reading)  # raises on a sweep it changes in part
             strategy = sweep.fixed["strategy"]
             # Table 4's start readings change Table 4 only (the others start so already).

@@ -88,7 +88,7 @@ def test_registered_and_settings_follow_the_paper() -> None:
     assert get_reproduction("vazquez2005") is vz.REPRODUCTION
     assert vz.SENSOR_RANGE_CELLS == 4.5
     assert vz.COMM_RANGES_CELLS == (20, 30, 40)
-    full = vz.sweeps(False)
+    full = vz.REPRODUCTION.sweeps(False)
     assert list(full) == ["small-vazquez", "small-yamauchi", "large-vazquez", "large-yamauchi"]
     yamauchi = full["small-yamauchi"]
     assert yamauchi.grid["robots"] == list(range(2, 11))
@@ -97,7 +97,7 @@ def test_registered_and_settings_follow_the_paper() -> None:
         assert sweep.fixed["map_seed"] == vz.MAP_SEED
         assert sweep.fixed["coverage_threshold"] == 1.0
         assert sweep.grid["comm_range"] == [20, 30, 40]
-    assert [len(s) for s in vz.sweeps(True).values()] == [8, 8]
+    assert [len(s) for s in vz.REPRODUCTION.sweeps(True).values()] == [8, 8]
     assert [row[0] for row in vz.SETTINGS_ROWS][:3] == ["simulator", "robot diameter", "sensor"]
     assert all(len(row) == 3 and all(row) for row in vz.SETTINGS_ROWS)
 
@@ -109,7 +109,7 @@ def test_the_split_sweeps_run_the_runs_of_the_former_combined_sweep() -> None:
     before = sweep_from_dict(
         {"sweep": {"name": "small", "seeds": [1, 2]}, "fixed": fixed, "grid": grid}
     )
-    after = [spec for sweep in vz.sweeps(True).values() for spec in sweep.runs()]
+    after = [spec for sweep in vz.REPRODUCTION.sweeps(True).values() for spec in sweep.runs()]
     assert sorted(s.run_id for s in after) == sorted(s.run_id for s in before.runs())
 
 
@@ -142,7 +142,7 @@ def test_interpretations_change_one_setting_each() -> None:
 
 
 def test_both_methods_share_the_paper_s_sharing_and_re_plan_rule() -> None:
-    for sweep in vz.sweeps(quick=True).values():
+    for sweep in vz.REPRODUCTION.sweeps(quick=True).values():
         runs = sweep.runs()
         assert {r.scenario.sharing for r in runs} == {"broadcast"}
         assert {r.scenario.complete_when for r in runs} == {"robot"}

@@ -100,7 +100,7 @@ def test_registered() -> None:
 
 
 def test_full_sweeps_have_the_papers_design() -> None:
-    sweeps = repro.sweeps(False)
+    sweeps = repro.REPRODUCTION.sweeps(False)
     assert list(sweeps) == [f"{m}-{s}" for m in repro.MAPS for s in repro.STRATEGIES]
     for name, sweep in sweeps.items():
         # 2 schemes x 4 team sizes x 15 set-ups, one map per type, one strategy.
@@ -115,7 +115,7 @@ def test_full_sweeps_have_the_papers_design() -> None:
 
 def test_readings_change_whole_sweeps_of_the_strategies_with_the_trigger() -> None:
     for interpretation in repro.INTERPRETATIONS:
-        for name, sweep in repro.sweeps(True).items():
+        for name, sweep in repro.REPRODUCTION.sweeps(True).items():
             changed = interpret(sweep, interpretation)  # never a partly applying sweep
             strategy = name.removeprefix("unstructured-")
             assert (changed is not None) == (strategy in interpretation.strategies), name
@@ -126,7 +126,7 @@ def test_readings_change_whole_sweeps_of_the_strategies_with_the_trigger() -> No
 
 def test_every_arm_with_a_re_plan_trigger_re_plans_on_arrival_by_default() -> None:
     """§IV.D step 11 for KME, and the same rule for the baselines that have a trigger."""
-    for name, sweep in repro.sweeps(True).items():
+    for name, sweep in repro.REPRODUCTION.sweeps(True).items():
         params = sweep.runs()[0].scenario.params
         if name.removeprefix("unstructured-") in repro.REPLANNING:
             assert params["replan_on_target_explored"] is False, name
@@ -270,5 +270,5 @@ def test_full_reproduction(tmp_path: Path) -> None:
     assert main(["reproduce", "wu2011", "--out", str(tmp_path), "--no-progress"]) == 0
     text = _check_report(tmp_path, FULL_FIGURES)
     assert "**Quick run**" not in text
-    for name in repro.sweeps(False):
+    for name in repro.REPRODUCTION.sweeps(False):
         assert (tmp_path / name / "runs").is_dir()

@@ -1,23 +1,27 @@
-"""What every paper reproduction is made of: a :class:`Reproduction` names its sweeps (at
-the paper's settings or a reduced ``quick`` size) and a report function that writes
-``report.md`` from their stores; :func:`reproduce` runs the sweeps into ``OUT/<experiment>/``
-(resumably) and writes the report.
+"""What every paper reproduction is made of: a :class:`Reproduction` names its experiments (at
+the paper's settings or a reduced ``quick`` size) and the sections of its report;
+:func:`reproduce` runs the sweeps into ``OUT/<experiment>/`` (resumably) and
+:func:`write_report` writes ``report.md``: head, sections, verdicts and their robustness.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+import time
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from mrexplore.experiments.driver import run_sweep
 from mrexplore.experiments.engines import make_engine
+from mrexplore.experiments.reproduce.claims import claims_section, robustness_section
+from mrexplore.experiments.reproduce.render import rows_of
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep
 
 if TYPE_CHECKING:
     from mrexplore.experiments.reproduce.claims import Claim, Interpretation, Values
+    from mrexplore.experiments.reproduce.render import Experiment, Lines
 
 
 @dataclass(frozen=True)
@@ -26,17 +30,24 @@ class Reproduction:
 
     id: str
     title: str
+    """The report's title (the paper's, with its authors where they help)."""
     citation: str
-    sweeps: Callable[[bool], Mapping[str, Sweep]]
-    """``quick -> {experiment name: sweep}``."""
-    report: Callable[[Mapping[str, Store], Path, bool], Path]
-    """``(stores by experiment, out dir, quick) -> path of report.md``."""
+    experiments: Callable[[bool], Iterable[Experiment]]
+    """``quick -> the experiments``, in the report's order."""
+    report: Callable[[Mapping[str, Store], Path, bool], Lines]
+    """``(stores by experiment, out dir, quick) -> the report's sections`` (figures in ``out``)."""
+    tables: Callable[[Mapping[str, Store], bool], Mapping[str, Values]]
+    """``(stores by experiment, quick) -> metric -> values`` the claims read."""
     claims: Sequence[Claim] = ()
     """The claims judged by :mod:`~mrexplore.experiments.reproduce.claims` rules."""
-    tables: Callable[[Mapping[str, Store], bool], Mapping[str, Values]] | None = None
-    """``(stores by experiment, quick) -> metric -> values`` the claims read."""
     interpretations: Sequence[Interpretation] = ()
     """Alternative readings of the paper the claims are also judged under."""
+    quick_note: str = ""
+    """What a ``quick`` run reduces, for the warning at the report's head."""
+
+    def sweeps(self, quick: bool) -> dict[str, Sweep]:
+        """``experiment name -> sweep``, in order."""
+        return {e.name: e.sweep(self.id) for e in self.experiments(quick)}
 
     def interpretation_names(self) -> list[str]:
         return [i.name for i in self.interpretations]
@@ -125,12 +136,29 @@ def reproduce(
             for name, sweep in sweeps.items():
                 if (changed := interpret(sweep, interpretation)) is not None:
                     reading[name] = run(changed, out / "readings" / interpretation.name / name)
-    path = reproduction.report(stores, out, quick)
-    if reproduction.claims and reproduction.tables is not None:
-        from mrexplore.experiments.reproduce.claims import robustness_section
+    return write_report(reproduction, {"default": stores, **readings}, out, quick)
 
-        every = {"default": stores, **readings}
-        tables = {n: reproduction.tables(s, quick) for n, s in every.items()}
-        section = robustness_section(reproduction.claims, tables, reproduction.interpretations)
-        path.write_text(path.read_text().rstrip("\n") + "\n\n" + "\n".join(section))
+
+def write_report(
+    reproduction: Reproduction, readings: Mapping[str, Mapping[str, Store]], out: Path, quick: bool
+) -> Path:
+    """``out/report.md``: the head (title, quick-run warning, citation, runs by status), the
+    sections and the claims' verdicts from the stores of the ``default`` reading, then the claims
+    under every reading (``readings``: name -> stores by experiment, the default first)."""
+    r, stores = reproduction, readings["default"]
+    lines = [f"# Reproduction: {r.title}", ""]
+    if quick and r.quick_note:
+        lines += [
+            f"> **Quick run** (`--quick`): {r.quick_note}. Its verdicts are indicative only; run "
+            "without `--quick` for the full settings.",
+            "",
+        ]
+    counts = ", ".join(f"{k} {v}" for k, v in rows_of(stores)[1].items()) or "none"
+    written = f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: {counts}."
+    lines += [f"Citation: {r.citation}", "", written, "", *r.report(stores, out, quick)]
+    tables = {name: r.tables(s, quick) for name, s in readings.items()}
+    lines += [*claims_section(r.claims, tables["default"]), ""]
+    lines += robustness_section(r.claims, tables, r.interpretations)
+    path = out / "report.md"
+    path.write_text("\n".join(lines))
     return path

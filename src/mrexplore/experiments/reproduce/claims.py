@@ -59,7 +59,7 @@ def _diff(d: Summary, digits: int) -> str:
     return f"{fmt(d.mean, digits)} [{fmt(d.ci_low, digits)}, {fmt(d.ci_high, digits)}], n {d.n}"
 
 
-def _cell_name(cell: CellKey) -> str:
+def cell_name(cell: CellKey) -> str:
     last = f"/{cell[-1]}r" if len(cell) > 1 else str(cell[0])
     return "/".join(str(part) for part in cell[:-1]) + last
 
@@ -266,7 +266,7 @@ class Cells(Rule):
                         continue
                     grade, text = self.grade(pair, cell, ask)
                     grade = HOLDS + FAILS - grade if cell[-1] in self.except_at else grade
-                    name = _cell_name(cell) + (f" {arm}" if self.members else "")
+                    name = cell_name(cell) + (f" {arm}" if self.members else "")
                     name += "" if second else f" (best other `{other}`)"
                     judged = None if second in self.shown else grade
                     yield Check(name, text, judged, f"vs `{second}`" if second else "", pair)
@@ -413,7 +413,7 @@ class Level(Rule):
                 grade = HOLDS if holds(mean, self.bound) else WEAK if weak else FAILS
                 if math.isfinite(mean):
                     judged = grade if arm == ask.first else None
-                    yield Check(_cell_name(cell), ask.fmt(mean), judged, f"`{arm}`")
+                    yield Check(cell_name(cell), ask.fmt(mean), judged, f"`{arm}`")
 
 
 @dataclass(frozen=True)
@@ -430,7 +430,7 @@ class NotBelowAll(Rule):
                 ds = {s: paired(arms, ask.first, s) for s in ask.seconds}
                 text = "; ".join(f"`{s}` {_diff(d, ask.digits)}" for s, d in ds.items())
                 superior = all(d.ci_high < 0 for d in ds.values())
-                yield Check(_cell_name(cell), text, FAILS if superior else HOLDS)
+                yield Check(cell_name(cell), text, FAILS if superior else HOLDS)
 
 
 # ------------------------------------------------------------------------ curves
@@ -453,9 +453,9 @@ class Along(Rule):
             if cell[: len(self.within)] != self.within:
                 continue
             if self.along == "family" and family(arms, arm):
-                out[_cell_name(cell)] = {level(a): arms[a] for a in family(arms, arm)}
+                out[cell_name(cell)] = {level(a): arms[a] for a in family(arms, arm)}
             elif self.along != "family" and arm in arms:
-                key = ((), _cell_name(cell)) if self.along == "cells" else (cell[:-1], cell[-1])
+                key = ((), cell_name(cell)) if self.along == "cells" else (cell[:-1], cell[-1])
                 out.setdefault("/".join(map(str, key[0])), {})[key[1]] = arms[arm]
         return out
 
@@ -717,7 +717,7 @@ class NearPaper(Rule):
             falls = all(map(math.isfinite, ours.values())) and all(a > b for a, b in steps)
             near = all(p / self.factor <= ours[x] <= p * self.factor for x, p in self.paper.items())
             text = ", ".join(f"{ask.first} {x:g} {ask.fmt(v)}" for x, v in ours.items())
-            yield Check(_cell_name(cell), text, (HOLDS if near else WEAK) if falls else FAILS)
+            yield Check(cell_name(cell), text, (HOLDS if near else WEAK) if falls else FAILS)
 
 
 # ------------------------------------------------------------------------ claims

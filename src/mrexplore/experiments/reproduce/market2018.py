@@ -247,9 +247,6 @@ def experiments(quick: bool) -> list[Experiment]:
     ]
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 #: Our choices where the paper is silent, as the report's settings section lists them.
 _NOTES = f"""
 *Maps*: the paper's Fig. 9 environments are not in our copy. We take two real indoor maps (Intel
@@ -333,10 +330,15 @@ def _bytes_figure(rows: Sequence[Row], cells: Sequence[CellKey], out: Path) -> L
     return ["![bytes by message type](bytes_by_type.png)", ""]
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    out = Path(out)
-    rows, statuses = render.rows_of(stores)
+QUICK_NOTE = (
+    f"the three maps (the office 80 x 56 cells), {len(QUICK_SEEDS)} seeds (the RRT arm "
+    f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
+)
+
+
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
+    """The report's sections, its figures written into ``out``."""
+    rows = render.rows_of(stores)[0]
     values = run_values(rows)
     teams, arms = tables(stores, quick), render.arms_in(values["time"], ARMS)
 
@@ -351,13 +353,8 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         axes = {"xlabel": "robots", "ylabel": ylabel, "colours": ARM_COLOURS, "log": log}
         return render.figure(out, name, panels, title=title, **axes)
 
-    quick_note = (
-        f"the three maps (the office 80 x 56 cells), {len(QUICK_SEEDS)} seeds (the RRT arm "
-        f"1), {', '.join(map(str, QUICK_TEAM_SIZES))} robots"
-    )
     coordination = ("coordination bytes per run", "Coordination traffic (all but map sharing)")
-    lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
-    lines += render.blocks(
+    return render.blocks(
         _settings(quick),
         "## Arms",
         render.table(["arm", "what"], [(f"`{a}`", ARM_LABELS[a]) for a in arms]),
@@ -386,7 +383,8 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         "Ours: mean group diameter (cells), mean (sd; 95% CI; n):",
         arm_tab(teams["diameter"], 1),
     )
-    return render.write_report(out, lines, CLAIMS, teams)
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
+)

@@ -17,7 +17,7 @@ import numpy as np
 from mrexplore.comm.bytes import HEADER_BYTES, SCAN_BEAM_BYTES
 from mrexplore.experiments.reproduce import claims, render
 from mrexplore.experiments.reproduce.base import Reproduction
-from mrexplore.experiments.reproduce.claims import Claim, Values, family, fmt, level
+from mrexplore.experiments.reproduce.claims import Claim, Values, cell_name, family, fmt, level
 from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Row, number
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
@@ -106,9 +106,6 @@ def experiments(quick: bool) -> list[Experiment]:
             baseline = {**fixed, "strategy": strategy, "sharing": "full"}
             out.append(Experiment(f"{store}_baselines-{strategy}", baseline, grid, tuple(seeds)))
     return out
-
-
-sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------------ arms and metrics
@@ -341,10 +338,9 @@ def _with_paper(ours: Mapping[str, Summary], paper: Mapping[float, float]) -> di
     return {"ours": _xs(ours)["polygon"], "paper": _xs(theirs)["polygon"]}
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    out, (rows, statuses) = Path(out), render.rows_of(stores)
-    values = run_values(rows, quick)
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
+    """The report's sections, its figures written into ``out``."""
+    values = run_values(render.rows_of(stores)[0], quick)
     t = claim_tables(values, quick)
     s = {metric: render.summaries(v) for metric, v in {**values, **t}.items()}
     one, fig7, low = next(iter(t["error"])), next(iter(t["traffic"])), f"{SR} {LOW_SPLIT_RATE:g}"
@@ -352,23 +348,19 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     def table(cells: Values, columns: Sequence[str] = ("map", "robots"), **options: Any) -> Lines:
         return [*render.arm_table(cells, ARMS, list(columns), **options), ""]
 
-    def name(cell: Any) -> str:
-        return f"{cell[0]}/{cell[1]}r"
-
     def figure(file: str, title: str, panels: Any, ylabel: str, log: bool = False) -> Lines:
         axes = {"xlabel": "split rate (splits/s)", "ylabel": ylabel, "colours": COLOURS, "log": log}
         return render.figure(out, file, panels, title=title, logx=True, **axes)
 
     ratios = [
-        f"{name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
+        f"{cell_name(c)} {fmt(SCAN_BYTES * c[1] / x[low].mean, 1)}"
         for c, x in s["rate"].items()
         if c in t["time"] and low in x
     ]
-    lines = render.report_head(TITLE, CITATION, statuses, QUICK_NOTE if quick else None)
-    lines += [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
+    lines = [*_settings(quick), "## Fig. 6: exploration time vs split rate", ""]
     lines += ["Ours: T99 (ticks); `*`: some runs never reached 99% and are left out.", ""]
     lines += table(t["time"], flags=render.unfinished(values["reached"]))
-    panels = {name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
+    panels = {cell_name(c): _xs(x, (CENTRALISED, EXACT)) for c, x in s["time"].items()}
     lines += figure("fig6_exploration_time.png", "Fig. 6", panels, "T99 (ticks)")
     lines += ["## Traffic (§2, §5.2, §5.3, Fig. 7)", "", TRAFFIC + ", ".join(ratios), ""]
     for text, metric, digits in (
@@ -377,11 +369,11 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         ("Map-sharing bytes per run (all but TPT, `status`, `assign`)", "map_bytes", 0),
     ):
         lines += [f"{text}:", "", *table(values[metric], digits=digits)]
-    panels = {name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
+    panels = {cell_name(fig7): _xs(s["traffic"][fig7], (RAW, RAW_HALF, EXACT, CENTRALISED))}
     lines += figure("fig7_traffic.png", "Fig. 7", panels, "bytes per run", log=True)
     paper1 = [[f"{r:g}", *(f"{v:.2f}" for v in row.values())] for r, row in PAPER_TABLE1.items()]
     lines += ["## Table 1: share (%) of the bytes by package type", "", "Paper:", ""]
-    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({name(one)}):", ""]
+    lines += [*render.table(["SR", *PACKAGE_TYPES], paper1), "", f"Ours ({cell_name(one)}):", ""]
     lines += table(t["shares"], ["package"], digits=2)
     panels = {
         p: _with_paper(s["shares"][(p,)], {r: row[p] for r, row in PAPER_TABLE1.items()})
@@ -394,8 +386,9 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     lines += ["## Table 2: approximation error (%)", "", f"Paper: {paper2}.", ""]
     lines += table(errors, ["error"], digits=2)
     panels = {"Table 2": _with_paper(s["error"][one], PAPER_TABLE2)}
-    lines += figure("table2_approximation_error.png", "Table 2", panels, "error (%)", True)
-    return render.write_report(out, lines, CLAIMS, t)
+    return lines + figure("table2_approximation_error.png", "Table 2", panels, "error (%)", True)
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
+)

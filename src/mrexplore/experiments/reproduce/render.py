@@ -1,26 +1,18 @@
 """What every reproduction report is built from: its :class:`Experiment` objects, per-run
 metrics grouped ``cell -> arm -> seed`` by :func:`tabulate` (the claims' ``Values``), and the
-Markdown pieces of ``report.md``, which :func:`write_report` ends with the claims' verdicts.
+Markdown pieces of ``report.md`` (:func:`~mrexplore.experiments.reproduce.base.write_report`).
 """
 
 from __future__ import annotations
 
 import json
 import math
-import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mrexplore.experiments.reproduce.claims import (
-    CellKey,
-    Claim,
-    Interpretation,
-    Values,
-    claims_section,
-    fmt,
-)
+from mrexplore.experiments.reproduce.claims import CellKey, Interpretation, Values, fmt
 from mrexplore.experiments.stats import Summary, summarize_metric
 from mrexplore.experiments.store import Store
 from mrexplore.experiments.sweep import Sweep, sweep_from_dict
@@ -47,13 +39,6 @@ class Experiment:
             head["curves_every"] = self.curves_every
         data = {"sweep": head, "fixed": dict(self.fixed), "grid": dict(self.grid)}
         return sweep_from_dict(data, source=f"{source}:{self.name}")
-
-
-def sweeps_for(
-    source: str, experiments: Callable[[bool], Iterable[Experiment]]
-) -> Callable[[bool], dict[str, Sweep]]:
-    """A reproduction's ``sweeps``: ``quick -> experiment name -> sweep``, in order."""
-    return lambda quick: {e.name: e.sweep(source) for e in experiments(quick)}
 
 
 def text_rows(text: str) -> list[list[str]]:
@@ -245,31 +230,6 @@ def settings_table(rows: str | Iterable[Sequence[str]], notes: Sequence[str] = (
         lines += ["Choices where the paper is silent or our world differs:", ""]
         lines += [f"- {note}" for note in notes] + [""]
     return lines
-
-
-def report_head(
-    title: str, citation: str, statuses: Mapping[str, int], quick_note: str | None
-) -> Lines:
-    """Title, the quick-run warning, the citation and the runs by status."""
-    lines = [f"# Reproduction: {title}", ""]
-    if quick_note:
-        lines += [
-            f"> **Quick run** (`--quick`): {quick_note}. Its verdicts are indicative "
-            "only; run without `--quick` for the full settings.",
-            "",
-        ]
-    counts = ", ".join(f"{k} {v}" for k, v in statuses.items()) or "none"
-    written = f"Written {time.strftime('%Y-%m-%d %H:%M')}. Runs: {counts}."
-    return [*lines, f"Citation: {citation}", "", written, ""]
-
-
-def write_report(
-    out: Path, lines: Lines, claims: Sequence[Claim], tables: Mapping[str, Values]
-) -> Path:
-    """``out/report.md``: ``lines``, then the verdict section of ``claims``."""
-    path = Path(out) / "report.md"
-    path.write_text("\n".join([*lines, *claims_section(claims, tables), ""]))
-    return path
 
 
 # -------------------------------------------------------------------------- figures

@@ -18,7 +18,7 @@ from mrexplore.experiments.reproduce.render import Experiment, Lines, Metric, Ro
 from mrexplore.experiments.store import Store
 
 ID = "sheng2006"
-TITLE = "Distributed multi-robot coordination in area exploration"
+TITLE = "Sheng et al. (2006), Distributed multi-robot coordination in area exploration"
 CITATION = (
     'W. Sheng, Q. Yang, J. Tan, N. Xi, "Distributed multi-robot coordination in area '
     'exploration", Robotics and Autonomous Systems 54 (2006) 945-955.'
@@ -104,10 +104,7 @@ def sync_bytes(row: Row) -> float:
     return render.bytes_of(SYNC_TYPES[row["sharing"]])(row)  # KeyError: not a Table 4 run
 
 
-BOTH: dict[str, Metric] = {
-    "time": render.measured("T100"),
-    "distance": render.measured("total_distance"),
-}
+BOTH = {"time": render.measured("T100"), "distance": render.measured("total_distance")}
 
 
 def same_run(kind: str, cell_bytes: int = CELL_UPDATE_BYTES) -> Metric:
@@ -316,9 +313,6 @@ def experiments(quick: bool) -> list[Experiment]:
     ]
 
 
-sweeps = render.sweeps_for(ID, experiments)
-
-
 # ------------------------------------------------------------------------ report
 def _settings(quick: bool) -> str:
     seeds = {k: f"{n} seed{'s' * (n > 1)}" for k, n in (QUICK_SEEDS if quick else SEEDS).items()}
@@ -372,11 +366,9 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
     ticks, distance, pairs = values["table4 ticks"], values["table4 distance"], []
     by_type: dict[str, dict[str, float]] = {}
     for cell, arms in ticks.items():
-        seeds = set(arms.get(WITH, {})) & set(arms.get(WITHOUT, {}))
-        alike = [
-            all(v[cell][WITH][s] == v[cell][WITHOUT][s] for v in (ticks, distance)) for s in seeds
-        ]
-        pairs.append(f"{cell[0]} {sum(alike)}/{len(seeds)}")
+        seeds, both = set(arms.get(WITH, {})) & set(arms.get(WITHOUT, {})), (arms, distance[cell])
+        alike = sum(all(v[WITH][s] == v[WITHOUT][s] for v in both) for s in seeds)
+        pairs.append(f"{cell[0]} {alike}/{len(seeds)}")
         for sharing, arm in TRACKING.items():
             stats = {t: render.summaries(values[f"table4 {t}"])[cell] for t in SYNC_TYPES[sharing]}
             means = {t: s[arm].mean for t, s in stats.items() if arm in s}
@@ -386,7 +378,10 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
         for w3, (a, b, sd_a, sd_b) in PAPER_TABLE4.items()
     )
     types = {k: "`, `".join(v) for k, v in SYNC_TYPES.items()}
-    lines = [
+    acts = {k: render.summaries(values[f"table4 {k}"]) for k in (*BOTH, "diameter", PARTITIONS)}
+    with_runs = [c for c, arms in ticks.items() if WITH in arms]
+    rows = [[c[0], *(fmt(a[c][WITH].mean, 1) for a in acts.values())] for c in with_runs]
+    lines = render.blocks(
         f"The paper's bytes, mean (sd) over 20 runs, without / with tracking: {paper}. It "
         "measured both in the same runs, as our *same run* columns do: at each merge of a "
         "`sheng-sync` run, the bytes of steps 4-10 as sent and what §4's brute force (whole maps "
@@ -398,23 +393,10 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
         f"half a byte per cell of the map): with tracking `{types['sheng-sync']}`, without "
         f"`{types['full']}`; *broadcast* (`{'`, `'.join(BROADCAST_TYPES)}`, inside a sub-network) "
         "is not counted. Our byte model is not the paper's (unknown): ratios compare.",
-        "",
-    ]
-    acts = {k: render.summaries(values[f"table4 {k}"]) for k in (*BOTH, "diameter", PARTITIONS)}
-    lines += [
         "Where nearness acts: the `sheng-sync` runs' means by w3 (time in ticks, distance and "
         "diameter in cells, partition events):",
-        "",
-        *render.table(
-            ["w3", *acts],
-            [
-                [c[0], *(fmt(acts[k][c][WITH].mean, 1) for k in acts)]
-                for c in ticks
-                if WITH in ticks[c]
-            ],
-        ),
-        "",
-    ]
+        render.table(["w3", *acts], rows),
+    )
     if any(by_type.values()):
         title = "Table 4: map synchronisation bytes per run (mean), 5 robots"
         plot_bytes_by_type(by_type, out / "table4_bytes.png", title=title, xlabel="w3, tracking")
@@ -422,17 +404,16 @@ def _table4(values: Mapping[str, Values], out: Path) -> Lines:
     return lines
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    out, values = Path(out), tables(stores, quick)
-    note = (
-        f"{QUICK_SEEDS['fig11']} seeds for Figs. 11-13 and {QUICK_SEEDS['table4']} for Table 4 "
-        f"and Fig. 17, team sizes {' and '.join(map(str, QUICK_TEAM_SIZES))}, r_c = "
-        + ", ".join(map(str, QUICK_RANGES))
-    )
-    title, statuses = f"Sheng et al. (2006), {TITLE}", render.rows_of(stores)[1]
-    lines = render.report_head(title, CITATION, statuses, note if quick else None)
-    lines += render.settings_table(_settings(quick))
+QUICK_NOTE = (
+    f"{QUICK_SEEDS['fig11']} seeds for Figs. 11-13 and {QUICK_SEEDS['table4']} for Table 4 "
+    f"and Fig. 17, team sizes {' and '.join(map(str, QUICK_TEAM_SIZES))}, r_c = "
+    + ", ".join(map(str, QUICK_RANGES))
+)
+
+
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
+    """The report's sections, its figures written into ``out``."""
+    values, lines = tables(stores, quick), render.settings_table(_settings(quick))
     for heading, wheres in SECTIONS.items():
         here = [c for c in CLAIMS if c.where in wheres]
         quotes = " ".join(f'"{c.sentence}."' for c in here)
@@ -447,7 +428,9 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
                 axes = {"xlabel": xlabel, "ylabel": ylabel, "colours": COLOURS}
                 lines += render.figure(out, name, panels, title=caption, **axes)
         lines += _table4(values, out) if "Table 4" in wheres else []
-    return render.write_report(out, lines, CLAIMS, values)
+    return lines
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
+)

@@ -12,6 +12,7 @@ import contextlib
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -141,9 +142,6 @@ def experiments(quick: bool) -> list[Experiment]:
             grid = {"robots": list(robots), "comm_range": list(ranges)}
             out.append(Experiment(f"{spec.label}-{key}", fixed, grid, seeds, CURVES_EVERY))
     return out
-
-
-sweeps = render.sweeps_for(ID, experiments)
 
 
 class Metres(float):
@@ -346,23 +344,19 @@ PALETTE = ("#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e
 COLOURS = dict(zip([VAZQUEZ, YAMAUCHI, *CURVES], PALETTE, strict=True))
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
-    rows, statuses = run_rows(stores)
-    values = run_values(rows)
-    arms, cells = list(STRATEGIES), ["map", "range", "robots"]
+QUICK_NOTE = (
+    f"one office of {QUICK_MAP.size} cells (about half the paper's small one), ranges "
+    f"{' and '.join(f'{r * CELL_SIZE_M:g} m' for r in QUICK_RANGES)}, "
+    f"{' and '.join(map(str, QUICK_TEAM_SIZES))} robots, {len(QUICK_SEEDS)} seeds"
+)
 
-    def figure(name: str, title: str, panels: render.Panels, ylabel: str = T100) -> Lines:
-        axes = {"xlabel": "robots", "ylabel": ylabel, "colours": COLOURS}
-        return render.figure(out, name, panels, title=title, **axes)
 
-    quick_note = (
-        f"one office of {QUICK_MAP.size} cells (about half the paper's small one), ranges "
-        f"{' and '.join(f'{r * CELL_SIZE_M:g} m' for r in QUICK_RANGES)}, "
-        f"{' and '.join(map(str, QUICK_TEAM_SIZES))} robots, {len(QUICK_SEEDS)} seeds"
-    )
-    lines = render.report_head(TITLE, CITATION, statuses, quick_note if quick else None)
-    lines += render.blocks(
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Lines:
+    """The report's sections, its figures written into ``out``."""
+    rows = run_rows(stores)[0]
+    values, arms, cells = run_values(rows), list(STRATEGIES), ["map", "range", "robots"]
+    figure = partial(render.figure, out, xlabel="robots", ylabel=T100, colours=COLOURS)
+    lines = render.blocks(
         f"The paper compares the time to a complete map of `{VAZQUEZ}` with Yamauchi's "
         f"`{YAMAUCHI}` (Figs. 6-11) and of `{VAZQUEZ}` across ranges (Fig. 12) in plots whose "
         "values are not in the text: its side is its settings and the results its text states.",
@@ -384,12 +378,15 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
     for label, spec in MAPS.items():  # Figs. 6-11: a panel per range
         part = {c: by_arm for c, by_arm in values["time"].items() if c[0] == label}
         panels = render.panels_of(part, arms, lambda c: f"range {c[1]}")
-        lines += figure(f"time_{label}.png", f"{spec.figures}: {label} environment", panels)
+        lines += figure(f"time_{label}.png", panels, title=f"{spec.figures}: {label} environment")
     panels = render.panels_of(values["ranges"], CURVES)  # a panel per map
-    lines += figure("fig12.png", "Fig. 12: vazquez-network by range", panels)
+    lines += figure("fig12.png", panels, title="Fig. 12: vazquez-network by range")
     panels = render.panels_of(by_range(values["connected"], arms), CURVES)
-    lines += figure("connected.png", "One sub-network (not in the paper)", panels, "share")
-    return render.write_report(out, lines, CLAIMS, values)
+    return lines + figure(
+        "connected.png", panels, title="One sub-network (not in the paper)", ylabel="share"
+    )
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
+)

@@ -22,7 +22,9 @@ from mrexplore.experiments.reproduce.base import Reproduction
 from mrexplore.experiments.store import Store
 
 ID = "wu2011"
-TITLE = "Balanced multi-robot exploration through a global optimization strategy"
+TITLE = (
+    "Wu, Puig and Garcia, Balanced multi-robot exploration through a global optimization strategy"
+)
 CITATION = (
     'L. Wu, D. Puig, M. A. Garcia, "Balanced multi-robot exploration through a global '
     'optimization strategy", Journal of Physical Agents 4(1), 2010, §V.'
@@ -76,9 +78,6 @@ def experiments(quick: bool) -> list[render.Experiment]:
         for s in STRATEGIES
         for settings in [{"strategy": s, **({"set": ON_ARRIVAL} if s in REPLANNING else {})}]
     ]
-
-
-sweeps = render.sweeps_for(ID, experiments)
 
 
 # ------------------------------------------------------------- per-run numbers
@@ -288,16 +287,13 @@ SECTIONS = (
 )
 
 
-def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
-    """Write ``out/report.md`` and its figures from the experiments' stores."""
+def report(stores: Mapping[str, Store], out: Path, quick: bool) -> render.Lines:
+    """The report's sections, its figures written into ``out``."""
     from mrexplore.viz.plots import plot_curves, strategy_colour
 
-    out, (runs, statuses), curves = Path(out), render.rows_of(stores), curve_table(stores)
-    rows = with_curve_means(runs, curves)
-    values = run_values(rows)
-    note = f"the unstructured map, {QUICK_MAP_SIZE} cells a side" if quick else None
-    lines = render.report_head(f"Wu, Puig and Garcia, {TITLE}", CITATION, statuses, note)
-    lines += _settings(quick)
+    curves = curve_table(stores)
+    rows = with_curve_means(render.rows_of(stores)[0], curves)
+    values, lines = run_values(rows), _settings(quick)
     for where, title, scheme, metrics, curve in SECTIONS:
         said = [f'Paper ({c.where}): "{c.sentence}"' for c in CLAIMS if c.where.startswith(where)]
         lines += [f"## {where}: {title}", "", *said, "(read from the text: no numbers)", ""]
@@ -325,7 +321,10 @@ def report(stores: Mapping[str, Store], out: Path, quick: bool) -> Path:
         panels = render.panels_of(values[metric], STRATEGIES, lambda c: f"{c[0]}, start {c[1]}")
         name, y = f"{metric[:3]}_all_combinations.png", LABELS[metric]
         lines += render.figure(out, name, panels, title=y, ylabel=y, **axes)
-    return render.write_report(out, lines, CLAIMS, tables(stores, quick))
+    return lines
 
 
-REPRODUCTION = Reproduction(ID, TITLE, CITATION, sweeps, report, CLAIMS, tables, INTERPRETATIONS)
+QUICK_NOTE = f"the unstructured map, {QUICK_MAP_SIZE} cells a side"
+REPRODUCTION = Reproduction(
+    ID, TITLE, CITATION, experiments, report, tables, CLAIMS, INTERPRETATIONS, QUICK_NOTE
+)
