@@ -200,6 +200,9 @@ _ARRIVAL = (
     'weight calculation request is sent to the others"'
 )
 BASELINE = {"replan_on_target_explored": False}
+#: A low-rate robot radio, for the limited-link reading: 9600 bit/s (an XBee's default serial
+#: rate) for a robot at 0.25 m/s, i.e. 0.8 s per tick of 0.2 m: 960 bytes per tick.
+LINK_BYTES_PER_TICK = 960
 INTERPRETATIONS = render.readings(f"""
 both-replan-when-explored | {_ARRIVAL}, read as one re-plan trigger among others | both arms
   also re-plan once their target is explored (`replan_on_target_explored=true`; default: both
@@ -221,6 +224,15 @@ coordinator-assigns-requesting | the centralised market of [3] (Burgard et al.: 
   assigns only the robots that ask for a goal, the goals of the others fixed
   (`assign=requesting`, our earlier version; default: the whole team) | assign=requesting |
   burgard
+centralised-bids | §II "every robot constructs its bids and sends them to a central executive,
+  that tries to maximize the total expected utility ... by assigning them tasks, based on their
+  bids" | the centralised market's robots send their path cost to every frontier cell they reach
+  when the coordinator calls (`protocol=bids`; default: positions, the coordinator computes the
+  costs on the shared map, Burgard et al.'s setting) | protocol=bids | burgard
+limited-link | §I "centralised task assignment for a multi-robot system is often not practical
+  due to communication limits" against "modelled by fully connected graph" | every robot may send
+  {LINK_BYTES_PER_TICK} bytes per tick, a 9600 bit/s radio at 0.25 m/s, both arms, map sharing
+  included (`scenario.bandwidth`; default unlimited) | scenario.bandwidth={LINK_BYTES_PER_TICK} | *
 """)
 
 
@@ -288,9 +300,10 @@ compared method | centralised market model of [3] (Burgard et al. 2005) | `burga
   discounting in line of sight, the whole team assigned greedily whenever a robot needs a goal;
   re-plans on arrival, as the paper's method
 the paper's method | weights C - U + F (eqs. 3-6), Hungarian (eq. 8), event-based rounds, RRT
-  frontier detector [20] | `market-occupancy` at its defaults (lambda_u 0.1, lambda_f = r_f, r =
-  sensor range, r_f = 2 x sensor range; no values in the paper); frontier points: grid clusters
-  (`decentralised`) and the RRT detector (`rrt`)
+  frontier detector [20] | `market-occupancy` at its defaults, no values in the paper: lambda_u
+  0.1 per unknown cell (0.5 m of travel per m² unknown at {CELL_SIZE_M} m cells), lambda_f = r_f,
+  r = the sensor range ({SENSOR_RANGE_M:g} m), r_f = {2 * SENSOR_RANGE_M:g} m; frontier points:
+  grid clusters (`decentralised`) and the RRT detector (`rrt`)
 frontier filter | Umari's pipeline [20]: points with under 0.2 m² unknown within 0.5 m dropped |
   the same in cells: under {FILTER["filter_min_gain"]:g} unknown cells within
   {FILTER["filter_radius"]:g} cells (`filter_min_gain`, `filter_radius`)
