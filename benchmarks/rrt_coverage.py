@@ -19,7 +19,9 @@ explorable cells) of each configuration.
 Configurations: ``grid`` (grid detector), ``rrt`` (RRT detector with the defaults of
 the code on the path), ``rrt-old`` (the RRT detector with the parameter values that
 were the defaults before issue 17: 20 samples per tree per tick, ``eta`` = sensor
-range, greedy merging within half the sensor range, no RRT gain filter); on request,
+range, greedy merging within half the sensor range, no RRT gain filter; on code after
+issue 17 the iterations of a tick are sequential, so this is not the earlier code: run
+the script with an older ``src`` on the path for that, configurations ``grid rrt``); on request,
 the new defaults with one value back at its old one (``rrt-20``, ``rrt-eta-r``,
 ``rrt-greedy``, ``rrt-nofilter``).
 """
