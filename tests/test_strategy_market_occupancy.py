@@ -166,7 +166,7 @@ def test_detector_finds_only_frontier_cells_and_is_deterministic() -> None:
     belief[19:21, 20] = FREE  # a door in the wall
     results = []
     for _ in range(2):
-        detector = RrtFrontierDetector(eta=6.0, samples=20, cluster_radius=3.0)
+        detector = RrtFrontierDetector(eta=6.0, samples=20, clustering="greedy", cluster_radius=3.0)
         rng = np.random.default_rng(5)
         for _ in range(30):
             detector.step(belief, (15, 15), rng)

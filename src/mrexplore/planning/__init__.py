@@ -3,7 +3,8 @@
 - :mod:`~mrexplore.planning.distance`: exact 8-connected distance fields
   (straight step 1, diagonal sqrt(2), no corner cutting) and path extraction.
 - :mod:`~mrexplore.planning.frontiers`: frontier cells and clusters.
-- :mod:`~mrexplore.planning.gain`: information gain of candidate cells.
+- :mod:`~mrexplore.planning.gain`: information gain of candidate cells, and the
+  information-gain filter of frontier points.
 - :mod:`~mrexplore.planning.visibility`: the line-of-sight rule shared with
   :mod:`mrexplore.sensing`.
 
@@ -19,7 +20,7 @@ from mrexplore.planning.distance import (
     path_length,
 )
 from mrexplore.planning.frontiers import FrontierCluster, frontier_clusters, frontier_mask
-from mrexplore.planning.gain import information_gain
+from mrexplore.planning.gain import filter_by_gain, information_gain
 from mrexplore.planning.visibility import bresenham_line, clip_radius, disk_offsets, ray_table
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "disk_offsets",
     "distance_field",
     "extract_path",
+    "filter_by_gain",
     "frontier_clusters",
     "frontier_mask",
     "information_gain",

@@ -26,7 +26,7 @@ from mrexplore.planning.visibility import (
     visible_cells_kernel,
 )
 
-__all__ = ["disk_offsets", "information_gain"]
+__all__ = ["disk_offsets", "filter_by_gain", "information_gain"]
 
 GainArray = npt.NDArray[np.int64]
 
@@ -224,3 +224,25 @@ def information_gain(
     use_prefix = 2 * cells.shape[0] * disk_cells > height * width
     kernel = _gain_prefix_kernel if use_prefix else _gain_direct_kernel
     return kernel(grid, exclude_grid, use_exclude, cells, half_widths)
+
+
+def filter_by_gain(
+    belief: BeliefGrid, points: npt.NDArray[np.integer], radius: float, min_gain: float
+) -> npt.NDArray[np.int64]:
+    """The points with at least ``min_gain`` unknown cells within ``radius`` (in order).
+
+    The information-gain test of Umari & Mukhopadhyay's frontier filter (their
+    ``filter.py`` drops a point whose ``informationGain`` is under a threshold), in
+    cells: :func:`information_gain` without line of sight. ``radius <= 0`` keeps
+    every point.
+
+    Example:
+        >>> import numpy as np
+        >>> belief = np.zeros((5, 5), dtype=np.int8); belief[:, 4] = -1
+        >>> filter_by_gain(belief, np.array([[2, 3], [2, 0]]), 1.5, 2).tolist()
+        [[2, 3]]
+    """
+    cells = np.asarray(points, dtype=np.int64).reshape(-1, 2)
+    if radius <= 0 or cells.shape[0] == 0:
+        return cells
+    return cells[information_gain(belief, cells, radius) >= min_gain]

@@ -51,16 +51,38 @@ name                           symbol    default   unit          meaning
 ``frontier_detector``          -         grid      -             ``grid``: frontier cluster
                                                                  representatives; ``rrt``: the
                                                                  RRT detector (Umari 2017)
-``rrt_eta``                    eta       0.0       cells         RRT growth step; 0 = sensor
-                                                                 range
-``rrt_samples``                -         20        samples/tick  samples per tree per tick
+``rrt_eta``                    eta       5.0       cells         RRT growth step of both trees;
+                                                                 0 = sensor range (Umari's
+                                                                 launch files: 1 m; 5 cells at
+                                                                 0.2 m per cell)
+``rrt_global_eta``             eta       0.0       cells         growth step of the global tree;
+                                                                 0 = ``rrt_eta`` (Umari: 1 m
+                                                                 with three robots, 15 m alone)
+``rrt_samples``                -         0         samples/tick  samples per tree per tick; 0 =
+                                                                 from ``rrt_sample_density``
+``rrt_sample_density``         -         1.0       samples/tick  samples per tree per tick per
+                                                   /footprint    sensor footprint (pi r^2) of
+                                                                 the map
 ``rrt_vertex_spacing``         -         1.0       cells         a free RRT edge shorter than
                                                                  this adds no vertex
 ``rrt_burst``                  -         50        batches       extra RRT batches when a goal
                                                                  is needed and no reachable
                                                                  point is stored
-``rrt_cluster_radius``         -         0.0       cells         merge stored RRT points closer
-                                                                 than this; 0 = sensor range / 2
+``rrt_clustering``             -         mean-     -             merge stored RRT points by
+                                         shift                   ``mean-shift`` (Umari's filter)
+                                                                 or ``greedy`` (earlier version)
+``rrt_bandwidth``              -         1.5       cells         mean-shift bandwidth (Umari:
+                                                                 0.3 m; 1.5 cells at 0.2 m)
+``rrt_cluster_radius``         -         0.0       cells         ``greedy``: merge stored RRT
+                                                                 points closer than this; 0 =
+                                                                 sensor range / 2
+``rrt_filter_radius``          -         2.5       cells         information-gain radius of the
+                                                                 RRT points' filter (Umari:
+                                                                 0.5 m); 0 = no filter
+``rrt_filter_min_gain``        -         5.0       cells         drop RRT points with fewer
+                                                                 unknown cells within
+                                                                 ``rrt_filter_radius`` (Umari:
+                                                                 0.2 m², 5 cells of 0.04 m²)
 ``filter_radius``              -         0.0       cells         information-gain radius of the
                                                                  frontier filter; 0 = no filter
 ``filter_min_gain``            -         0.0       cells         drop frontier points with fewer
@@ -145,20 +167,50 @@ Interpretations (where the paper is silent):
   infeasible for every robot and the round would give nobody a goal).
   ``rrt``: the requester's RRT detector store (each robot grows a global and a
   local tree every tick, see :mod:`mrexplore.planning.rrt_frontiers`), keeping
-  the points it can reach; when it has none, the requester first grows its
-  trees by up to ``rrt_burst`` more batches (the paper's detector runs much
-  faster than the robots decide); if the trees still hold no reachable point
+  the points it can reach, then dropping those under ``rrt_filter_min_gain``
+  unknown cells within ``rrt_filter_radius`` (the information-gain test of Umari's
+  filter node, the same test as ``filter_radius`` below); when it has none, the
+  requester first grows its trees by up to ``rrt_burst`` more batches (the
+  paper's detector runs much faster than the robots decide); if the trees still
+  hold no reachable point
   while the grid shows reachable frontier cells, that request lists the grid's
   points instead (RRTs pass narrow doors rarely; without this fallback a lone
   robot on room-64-64-8 idled until the run stalled at 86% explored).
+* **RRT defaults** (the principles in :mod:`mrexplore.planning.rrt_frontiers`).
+  Umari's values are in metres and the strategy knows no cell size: they are
+  converted at 0.2 m per cell, the robot-sized cell of the project's real-map runs.
+  Budget: ``rrt_sample_density`` = 1 sample per tree per tick per sensor footprint
+  ``pi r^2`` of the map (a uniform sampler finds a frontier of a given size later the
+  bigger the map unless the budget grows with its area; Umari's detectors iterate at
+  100 Hz while the robots drive at up to 0.3 m/s: 67 iterations per 0.2 m cell;
+  the density gives 46 on the Intel map at 0.2 m); ``rrt_samples`` > 0 sets a fixed
+  count (the earlier default 20). ``rrt_eta`` = 5 cells: Umari's launch files set 1
+  m for the local trees, and 1 m for the global tree with three robots
+  (``three_robots.launch``, 15 m in the single-robot files, ``rrt_global_eta`` = 75).
+  ``rrt_bandwidth`` = 1.5 cells: Umari's filter clusters with
+  ``MeanShift(bandwidth=0.3)``. ``rrt_filter_radius`` = 2.5 cells and
+  ``rrt_filter_min_gain`` = 5 cells: the filter drops points whose
+  ``informationGain`` within ``info_radius*0.5`` (``info_radius`` = 1 m) is under
+  0.2 m².
+* **One global tree per robot.** Umari runs one global detector on the merged map
+  ("In multi-robot configuration, it is intended to have only a single instance of
+  this node running"), and one local detector per robot. Here a robot's map is its
+  merged map (its scans and whatever communication delivered), so each robot grows
+  its own global tree on it: with unlimited communication every robot's map is the
+  merged map and its tree a copy of Umari's one tree; under limited communication
+  each grows it on what it knows. A team-shared tree would need shared memory or
+  messages the paper's byte model does not count, so there is no parameter for it.
 * **Frontier filter.** The paper takes its frontier points from Umari &
   Mukhopadhyay's pipeline, whose filter drops a point when the unknown area within
   half its ``info_radius`` (1 m by default, so 0.5 m) is under 0.2 m² (its
   ``informationGain`` counts unknown cells times the squared resolution). Here: a
   point of either detector with fewer than ``filter_min_gain`` unknown cells within
-  ``filter_radius`` cells is dropped. The strategy does not know the cell size, so
-  both default to 0 (no filter); ``mrexplore reproduce market2018`` sets them from
-  Umari's metres and its 0.2 m cells (2.5 cells, 5 cells). When the filter would
+  ``filter_radius`` cells is dropped. These two default to 0 (no filter), so the
+  grid detector's defaults are those of our earlier version; ``mrexplore reproduce
+  market2018`` sets them from Umari's metres and its 0.2 m cells (2.5 cells, 5
+  cells). The RRT detector is Umari's pipeline, whose filter belongs to it: its
+  points pass the same test with ``rrt_filter_radius`` and ``rrt_filter_min_gain``
+  first (on by default, the same values), then this one. When the filter would
   drop every reachable point, the request keeps them all (ours: Umari's system stops
   when no point is left, which here would end the run before the coverage
   threshold).
@@ -192,11 +244,16 @@ from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
     distance_field,
     extract_path,
+    filter_by_gain,
     frontier_clusters,
     frontier_mask,
     information_gain,
 )
-from mrexplore.planning.rrt_frontiers import RrtFrontierDetector
+from mrexplore.planning.rrt_frontiers import (
+    CLUSTERINGS,
+    RrtFrontierDetector,
+    samples_per_tick,
+)
 from mrexplore.strategies.base import (
     REPLAN_PARAMS,
     Cell,
@@ -372,22 +429,48 @@ class MarketOccupancy(FrontierStrategy):
             "euclidean", "", "C_ij of eq. (3): euclidean | path", choices=("euclidean", "path")
         ),
         "frontier_detector": Param("grid", "", "frontier points: grid | rrt", choices=DETECTORS),
-        "rrt_eta": Param(0.0, "cells", "RRT growth step; 0 = sensor range", "eta", low=0),
-        "rrt_samples": Param(20, "samples/tick", "RRT samples per tree per tick", low=1),
+        "rrt_eta": Param(
+            5.0, "cells", "RRT growth step (Umari: 1 m); 0 = sensor range", "eta", low=0
+        ),
+        "rrt_global_eta": Param(
+            0.0, "cells", "growth step of the global RRT; 0 = rrt_eta", "eta", low=0
+        ),
+        "rrt_samples": Param(
+            0, "samples/tick", "RRT samples per tree per tick; 0 = rrt_sample_density", low=0
+        ),
+        "rrt_sample_density": Param(
+            1.0,
+            "samples/tick/footprint",
+            "RRT samples per tree per tick per pi r^2 of the map",
+            low=0,
+            low_open=True,
+        ),
         "rrt_vertex_spacing": Param(
             1.0, "cells", "a free RRT edge shorter than this adds no vertex", low=0
         ),
         "rrt_burst": Param(
             50, "batches", "extra RRT batches when a goal is needed and no point", low=0
         ),
+        "rrt_clustering": Param(
+            "mean-shift", "", "merge RRT points: mean-shift | greedy", choices=CLUSTERINGS
+        ),
+        "rrt_bandwidth": Param(
+            1.5, "cells", "mean-shift bandwidth (Umari: 0.3 m)", low=0, low_open=True
+        ),
+        "rrt_cluster_radius": Param(
+            0.0, "cells", "greedy: merge RRT points closer; 0 = sensor range/2", low=0
+        ),
+        "rrt_filter_radius": Param(
+            2.5, "cells", "RRT points: information-gain radius (Umari: 0.5 m); 0 = none", low=0
+        ),
+        "rrt_filter_min_gain": Param(
+            5.0, "cells", "RRT points: drop those with fewer unknown cells (Umari: 0.2 m2)", low=0
+        ),
         "filter_radius": Param(
             0.0, "cells", "information-gain radius of the frontier filter; 0 = none", low=0
         ),
         "filter_min_gain": Param(
             0.0, "cells", "drop frontier points with fewer unknown cells within it", low=0
-        ),
-        "rrt_cluster_radius": Param(
-            0.0, "cells", "merge RRT points closer; 0 = sensor range/2", low=0
         ),
         "round_timeout": Param(
             0, "ticks", "decide with the rows at hand after this; 0 = auto", low=0
@@ -442,14 +525,15 @@ class MarketOccupancy(FrontierStrategy):
         """
         return self._filtered(view, self._detected(view))
 
-    def _filtered(self, view: RobotView, points: IntArray) -> IntArray:
+    def _filtered(self, view: RobotView, points: IntArray, prefix: str = "") -> IntArray:
         """Points with at least ``filter_min_gain`` unknown cells within ``filter_radius``
-        (Umari & Mukhopadhyay's filter), or all of them if none has."""
-        radius = float(self.p["filter_radius"])
-        if radius <= 0 or points.shape[0] == 0:
-            return points
-        keep = information_gain(view.belief, points, radius) >= float(self.p["filter_min_gain"])
-        return points[keep] if keep.any() else points
+        (Umari & Mukhopadhyay's filter), or all of them if none has; ``prefix="rrt_"``:
+        the RRT detector's own values of the same test."""
+        radius = float(self.p[prefix + "filter_radius"])
+        kept = filter_by_gain(
+            view.belief, points, radius, float(self.p[prefix + "filter_min_gain"])
+        )
+        return kept if kept.shape[0] else points
 
     def _detected(self, view: RobotView) -> IntArray:
         """The detector's reachable frontier points."""
@@ -465,7 +549,7 @@ class MarketOccupancy(FrontierStrategy):
                 points = self.detector.points(view.belief)
             points = points[reachable[points[:, 0], points[:, 1]]]
             if points.shape[0] or not reachable.any():
-                return points
+                return self._filtered(view, points, "rrt_")  # Umari's filter node
             self.grid_fallbacks += 1  # the trees missed every frontier: use the grid's
         clusters = frontier_clusters(reachable)
         return np.array([c.representative for c in clusters], dtype=np.int64).reshape(-1, 2)
@@ -500,9 +584,15 @@ class MarketOccupancy(FrontierStrategy):
     def decide(self, view: RobotView) -> Decision:
         if self.p["frontier_detector"] == "rrt":
             if self.detector is None:
+                samples = int(self.p["rrt_samples"]) or samples_per_tick(
+                    view.belief.shape, view.sensor_range, float(self.p["rrt_sample_density"])
+                )
                 self.detector = RrtFrontierDetector(
                     eta=float(self.p["rrt_eta"]) or view.sensor_range,
-                    samples=int(self.p["rrt_samples"]),
+                    samples=samples,
+                    global_eta=float(self.p["rrt_global_eta"]),
+                    clustering=str(self.p["rrt_clustering"]),
+                    bandwidth=float(self.p["rrt_bandwidth"]),
                     cluster_radius=float(self.p["rrt_cluster_radius"]) or view.sensor_range / 2,
                     vertex_spacing=float(self.p["rrt_vertex_spacing"]),
                 )
