@@ -2,8 +2,9 @@
 
 :meth:`RunRecord.save` writes ``result.json`` (the full scenario under the CLI's
 option names, and the metrics) and ``trace.npz``, whose arrays are described in
-:mod:`mrexplore.trace`, the trace schema. With ``png``, ``gif`` or ``mp4`` it
-also draws the run's pictures with :mod:`mrexplore.viz`.
+:mod:`mrexplore.trace`, the trace schema. It writes data only: the pictures
+(``final.png``, ``run.gif``, ...) are drawn by :mod:`mrexplore.viz`, and
+:func:`mrexplore.save_run` writes both, as ``mrexplore run --out`` does.
 
 The schema's names (:func:`load_trace`, :func:`pack_links`, :func:`n_link_pairs`,
 ...) are importable from here as well, as they were before the schema had its
@@ -235,23 +236,11 @@ class RunRecord:
         )
         return json_safe(out)
 
-    def save(
-        self,
-        out_dir: str | Path,
-        *,
-        gif: bool = False,
-        png: bool = True,
-        mp4: bool = False,
-        belief_panels: bool = False,
-        max_frames: int | None = None,
-        replace: bool = False,
-    ) -> dict[str, Path]:
-        """Write ``result.json``, ``trace.npz``, ``final.png`` (and ``run.gif``, ``run.mp4``).
+    def save(self, out_dir: str | Path, *, replace: bool = False) -> dict[str, Path]:
+        """Write ``result.json`` and ``trace.npz`` into ``out_dir``: data only.
 
-        The animations are those of :func:`mrexplore.viz.save_animation` (links,
-        targets, header; one panel per robot's own belief with ``belief_panels``,
-        which needs ``robot_first_known``); ``max_frames`` defaults to 300. An MP4
-        needs ``ffmpeg`` on ``PATH``.
+        The pictures of the run (``final.png``, ``run.gif``, ``run.mp4``) are
+        drawn by :mod:`mrexplore.viz`; :func:`mrexplore.save_run` writes both.
 
         By default the files are written into ``out_dir`` (created if needed),
         overwriting files of the same names and leaving any others. With
@@ -264,46 +253,11 @@ class RunRecord:
             from mrexplore.rundir import staged_dir
 
             with staged_dir(out_dir) as stage:
-                staged = self.save(
-                    stage,
-                    gif=gif,
-                    png=png,
-                    mp4=mp4,
-                    belief_panels=belief_panels,
-                    max_frames=max_frames,
-                )
+                staged = self.save(stage)
             return {name: Path(out_dir) / path.name for name, path in staged.items()}
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         written = {"result": out / "result.json", "trace": out / "trace.npz"}
-        arrays = self.trace_arrays()
-        save_trace(written["trace"], arrays)
+        save_trace(written["trace"], self.trace_arrays())
         written["result"].write_text(json.dumps(self.result(), indent=2) + "\n")
-        if png or gif or mp4:
-            from mrexplore import viz
-
-            title = (
-                f"{self.scenario.strategy}, {self.scenario.robots} robots on {self.world.grid.name}"
-            )
-            if png:
-                written["final"] = viz.save_final_png(
-                    out / "final.png",
-                    arrays["truth"],
-                    self.first_known,
-                    self.positions,
-                    title=f"{title}: {self.status} at tick {self.ticks}",
-                    credit=self.world.grid.credit,
-                    alive=self.alive,
-                    explorable=self.world.explorable,
-                )
-            frames = {"max_frames": max_frames} if max_frames is not None else {}
-            for wanted, name in ((gif, "gif"), (mp4, "mp4")):
-                if wanted:
-                    written[name] = viz.save_animation(
-                        out / f"run.{name}",
-                        arrays,
-                        belief_panels=belief_panels,
-                        title=title,
-                        **frames,
-                    )
         return written
