@@ -658,7 +658,6 @@ class Simulation:
         self.comm.send(message, tick)
 
     # ------------------------------------------------------------------ loop
-    # ------------------------------------------------------------------ stepping
     def start(self) -> None:
         """Tick 0: links, first sensing, first flush, first record. Called by
         :meth:`run`; callers that drive the run tick by tick (the RL environment)
