@@ -21,7 +21,7 @@ import pytest
 from mrexplore.cli import main
 from mrexplore.sim import Scenario
 from mrexplore.sim.engine import Simulation
-from mrexplore.sim.record import OPTIONAL_TRACE_ARRAYS, load_trace
+from mrexplore.trace import OPTIONAL_TRACE_ARRAYS, load_trace
 from mrexplore.viz.replay import replay_data, replay_html, write_replay
 
 CHROMIUM = Path("/usr/bin/chromium")
@@ -52,7 +52,7 @@ def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     )
     record = Simulation(scenario, record_beliefs=True).run()
     folder = tmp_path_factory.mktemp("run")
-    record.save(folder, png=False)
+    record.save(folder)  # data only: result.json, trace.npz
     return folder
 
 

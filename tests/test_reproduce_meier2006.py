@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from mrexplore.cli import main
+from mrexplore.comm.bytes import HEADER_BYTES, SCAN_BEAM_BYTES
 from mrexplore.experiments.reproduce import claims as c
 from mrexplore.experiments.reproduce import get_reproduction
 from mrexplore.experiments.reproduce import meier2006 as m
@@ -198,9 +199,10 @@ def test_metrics_of_a_run_row() -> None:
     assert m.team_error(rows[0]["polygon_approximation_error_mean"]) == pytest.approx(20.0)
     assert m.team_error("[0.2, null]") == pytest.approx(20.0)
     assert math.isnan(m.team_error("[null]")) and math.isnan(m.team_error(None))
-    per_scan = 7 + 360 * 2
+    per_scan = HEADER_BYTES + 360 * SCAN_BEAM_BYTES
     assert m.centralised_raw_bytes(rows[4]) == 150 + 130 + 2 * 80 * per_scan
-    assert m.centralised_raw_bytes(rows[4], 181) == 150 + 130 + 2 * 80 * (7 + 181 * 2)
+    per_scan_181 = HEADER_BYTES + 181 * SCAN_BEAM_BYTES
+    assert m.centralised_raw_bytes(rows[4], 181) == 150 + 130 + 2 * 80 * per_scan_181
     assert m.METRICS["rate"](rows[0]) == pytest.approx(1000 / (100 * 2))
     assert math.isnan(m.METRICS["time"](rows[3]))  # never reached 99%: no exploration time
     assert [m.arm_of(r) for r in rows[:6:2]] == ["SR 0.1", "SR 10", "centralised"]

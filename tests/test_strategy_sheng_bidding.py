@@ -250,12 +250,12 @@ def test_messages_have_the_byte_model_sizes() -> None:
     decision = robot.decide(_view(0, 1))
     assert _types(decision) == [POSITION, BID]
     sizes = {m.type: m.size_bytes for m in decision.messages}
-    assert sizes == {POSITION: 7 + POSITION_BYTES, BID: 7 + BID_BYTES}
+    assert sizes == {POSITION: HEADER_BYTES + POSITION_BYTES, BID: HEADER_BYTES + BID_BYTES}
     assert all(m.dest == 0xFFFF and m.sender == 0 for m in decision.messages)
     assert robot.decide(_view(0, 2)).messages == []  # t_bid = T_grace = 2 ticks
     win = robot.decide(_view(0, 3))
     assert _types(win) == [WINNER]
-    assert win.messages[0].size_bytes == 7 + TARGET_BYTES
+    assert win.messages[0].size_bytes == HEADER_BYTES + TARGET_BYTES
 
 
 def test_a_lone_robot_wins_its_own_session_after_t_bid() -> None:

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from mrexplore.checks import check_strategy
+from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, TARGET_BYTES
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.sim import Scenario, simulate
@@ -33,9 +34,9 @@ def test_bid_is_gain_minus_weighted_cost() -> None:
 
 
 def test_bid_message_size_follows_the_byte_model() -> None:
-    # header 7 + 10 bytes per bid (robot u16, row u16, col u16, value f32).
-    assert bids_size(0) == 7
-    assert bids_size(5) == 57
+    # header + one bid item per bid (robot u16, row u16, col u16, value f32).
+    assert bids_size(0) == HEADER_BYTES
+    assert bids_size(5) == HEADER_BYTES + 5 * BID_BYTES
 
 
 def test_disk_mask_marks_cells_within_the_radius_clipped_at_the_border() -> None:
@@ -151,9 +152,9 @@ def test_three_robots_complete_and_bytes_follow_the_byte_model(
     record = simulate(Scenario(map=map_name, size=size, robots=3, strategy="simmons", seed=1))
     assert record.status == "complete"
     hops = record.result()["hops_by_type"]
-    # assign: 7 + 6 bytes per hop; bid: 7 + 10 k bytes per hop.
-    assert record.bytes_by_type["assign"] == 13 * hops["assign"]
-    assert (record.bytes_by_type["bid"] - 7 * hops["bid"]) % 10 == 0
+    # assign: header + target per hop; bid: header + k bid items per hop.
+    assert record.bytes_by_type["assign"] == (HEADER_BYTES + TARGET_BYTES) * hops["assign"]
+    assert (record.bytes_by_type["bid"] - HEADER_BYTES * hops["bid"]) % BID_BYTES == 0
 
 
 def test_completes_with_a_quarter_map_comm_range() -> None:

@@ -390,7 +390,10 @@ def test_messages_positions_every_k_ticks_and_targets_on_change() -> None:
             sizes[message.type] = message.size_bytes
     # Position at ticks 1, 3, 5 (k = 2); the target once, with the first goal.
     assert sent == [["position", "target"], [], ["position"], [], ["position"]]
-    assert sizes == {"position": 7 + 6, "target": 7 + 6}
+    assert sizes == {
+        "position": HEADER_BYTES + POSITION_BYTES,
+        "target": HEADER_BYTES + TARGET_BYTES,
+    }
 
 
 def test_conflicting_destinations_lower_id_keeps_it() -> None:

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from mrexplore.checks import check_strategy
+from mrexplore.comm.bytes import BID_BYTES, TARGET_BYTES, fixed_size
 from mrexplore.comm.messages import BID, Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
@@ -177,17 +178,21 @@ def test_the_closer_robot_buys_the_goal() -> None:
     assert [m.type for m in announce.messages] == [AUCTION]
     auction = announce.messages[0]
     assert auction.payload == AuctionPayload(0, goal, -16.0)
-    assert auction.size_bytes == 17  # header 7 + robot, row, col, float32
+    assert auction.size_bytes == fixed_size(BID_BYTES)  # header + robot, row, col, float32
 
     answer = buyer.decide(_view(1, 11, (2, 18), (auction,)))
     assert [m.type for m in answer.messages] == [BID]
     bid = answer.messages[0]
-    assert (bid.dest, bid.payload, bid.size_bytes) == (0, BidPayload(1, goal, 2.0), 17)
+    assert (bid.dest, bid.payload, bid.size_bytes) == (
+        0,
+        BidPayload(1, goal, 2.0),
+        fixed_size(BID_BYTES),
+    )
 
     close = seller.decide(_view(0, 12, (2, 0), (bid,)))
     awards = [m for m in close.messages if m.type == AWARD]
     assert [m.payload for m in awards] == [AwardPayload(1, goal)]
-    assert awards[0].size_bytes == 13
+    assert awards[0].size_bytes == fixed_size(TARGET_BYTES)
     assert seller.tour == []
 
     adopt = buyer.decide(_view(1, 13, (2, 18), (awards[0],)))
@@ -242,9 +247,10 @@ def test_three_robots_complete_and_bytes_follow_the_byte_model(
     record = simulate(Scenario(map=map_name, size=size, robots=3, strategy="zlot-market", seed=1))
     assert record.status == "complete"
     hops = record.result()["hops_by_type"]
-    assert record.bytes_by_type["auction"] == 17 * hops["auction"]
-    assert record.bytes_by_type.get("bid", 0) == 17 * hops.get("bid", 0)
-    assert record.bytes_by_type.get("award", 0) == 13 * hops.get("award", 0)
+    offer, award = fixed_size(BID_BYTES), fixed_size(TARGET_BYTES)
+    assert record.bytes_by_type["auction"] == offer * hops["auction"]
+    assert record.bytes_by_type.get("bid", 0) == offer * hops.get("bid", 0)
+    assert record.bytes_by_type.get("award", 0) == award * hops.get("award", 0)
 
 
 def test_completes_with_a_quarter_map_comm_range() -> None:

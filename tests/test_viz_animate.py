@@ -14,13 +14,8 @@ from mrexplore.cli import main
 from mrexplore.errors import MrexploreInputError
 from mrexplore.sim import Scenario
 from mrexplore.sim.engine import Simulation
-from mrexplore.sim.record import (
-    OPTIONAL_TRACE_ARRAYS,
-    RunRecord,
-    load_trace,
-    pack_links,
-    unpack_links,
-)
+from mrexplore.sim.record import RunRecord
+from mrexplore.trace import OPTIONAL_TRACE_ARRAYS, load_trace, pack_links, unpack_links
 from mrexplore.viz import RunAnimator, robot_colour, save_animation
 from mrexplore.viz import animate as animate_module
 

@@ -453,6 +453,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     import json
 
     from mrexplore.comm.sharing import make_sharing
+    from mrexplore.rundir import save_run
     from mrexplore.sim.engine import Simulation
 
     scenario = _scenario_from_args(args)
@@ -467,7 +468,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_out_dir(args.out, run=True, force=args.force)
     record = simulation.run()
     written = (
-        record.save(
+        save_run(  # data, then pictures
+            record,
             args.out,
             gif=args.gif,
             mp4=args.mp4,

@@ -9,6 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from mrexplore.rundir import save_run
 from mrexplore.sim.engine import Simulation
 from mrexplore.sim.scenario import Scenario
 
@@ -24,7 +25,8 @@ def main(out_dir: str = "demo-out") -> int:
     scenario = demo_scenario()
     print(f"mrexplore demo: {scenario.robots} robots, {scenario.strategy}, map {scenario.map}")
     record = Simulation(scenario).run()
-    written = record.save(out_dir, gif=True, replace=True)  # replaces an earlier demo-out whole
+    # replaces an earlier demo-out whole
+    written = save_run(record, out_dir, gif=True, replace=True)
     result = record.result()
     print(
         f"status {result['status']} after {result['ticks']} ticks, "

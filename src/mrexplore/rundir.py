@@ -1,4 +1,8 @@
-"""Run folders (``mrexplore run --out DIR``): what holds a run, and replacing one whole.
+"""Run folders (``mrexplore run --out DIR``): writing one, what holds a run, and
+replacing one whole.
+
+:func:`save_run` writes a run's data (:meth:`mrexplore.sim.RunRecord.save`) and its
+pictures (:mod:`mrexplore.viz`) into a folder.
 
 A folder *holds a run* when any of :data:`RUN_FILES` is in it. ``mrexplore run``
 refuses such a folder, and any other non-empty folder, unless ``--force``; an
@@ -24,8 +28,12 @@ import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from mrexplore.errors import MrexploreInputError
+
+if TYPE_CHECKING:
+    from mrexplore.sim.record import RunRecord
 
 RUN_FILES = ("result.json", "trace.npz", "final.png", "run.gif", "run.mp4", "replay.html")
 """Files whose presence makes a folder hold a run."""
@@ -151,3 +159,71 @@ def staged_dir(out: str | Path) -> Iterator[Path]:
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
         raise
+
+
+def save_run(
+    record: RunRecord,
+    out_dir: str | Path,
+    *,
+    png: bool = True,
+    gif: bool = False,
+    mp4: bool = False,
+    belief_panels: bool = False,
+    max_frames: int | None = None,
+    replace: bool = False,
+) -> dict[str, Path]:
+    """Write ``result.json``, ``trace.npz``, ``final.png`` (and ``run.gif``, ``run.mp4``).
+
+    The files of ``mrexplore run --out``: the data of :meth:`RunRecord.save
+    <mrexplore.sim.RunRecord.save>`, then the pictures. The animations are those of
+    :func:`mrexplore.viz.save_animation` (links, targets, header; one panel per
+    robot's own belief with ``belief_panels``, which needs ``robot_first_known``);
+    ``max_frames`` defaults to 300. An MP4 needs ``ffmpeg`` on ``PATH``.
+
+    ``replace`` as in :meth:`RunRecord.save <mrexplore.sim.RunRecord.save>`: data and
+    pictures are written into a staging folder that then replaces ``out_dir`` whole.
+    Returns the paths written, by kind (``result``, ``trace``, ``final``, ``gif``,
+    ``mp4``).
+    """
+    if replace:
+        with staged_dir(out_dir) as stage:
+            staged = save_run(
+                record,
+                stage,
+                png=png,
+                gif=gif,
+                mp4=mp4,
+                belief_panels=belief_panels,
+                max_frames=max_frames,
+            )
+        return {name: Path(out_dir) / path.name for name, path in staged.items()}
+    out = Path(out_dir)
+    written = record.save(out)
+    if png or gif or mp4:
+        from mrexplore import viz
+
+        arrays = record.trace_arrays()
+        grid = record.world.grid
+        title = f"{record.scenario.strategy}, {record.scenario.robots} robots on {grid.name}"
+        if png:
+            written["final"] = viz.save_final_png(
+                out / "final.png",
+                arrays["truth"],
+                record.first_known,
+                record.positions,
+                title=f"{title}: {record.status} at tick {record.ticks}",
+                credit=grid.credit,
+                alive=record.alive,
+                explorable=record.world.explorable,
+            )
+        frames = {"max_frames": max_frames} if max_frames is not None else {}
+        for wanted, name in ((gif, "gif"), (mp4, "mp4")):
+            if wanted:
+                written[name] = viz.save_animation(
+                    out / f"run.{name}",
+                    arrays,
+                    belief_panels=belief_panels,
+                    title=title,
+                    **frames,
+                )
+    return written

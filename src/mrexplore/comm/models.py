@@ -312,9 +312,6 @@ class Network(CommModel):
         """Relative signal strength between two cells (1/d^2, Vazquez & Malcolm)."""
         return self.link_model.signal_strength(a, b)
 
-    def subnetwork_count_array(self) -> npt.NDArray[np.int64]:
-        return np.asarray(self.subnetwork_counts, dtype=np.int64)
-
 
 def make_network(
     n_robots: int,

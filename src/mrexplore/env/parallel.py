@@ -487,8 +487,10 @@ class ExplorationEnv(ParallelEnv):
         self, out_dir: str | Path, *, policy: str | None = None, **kwargs: Any
     ) -> dict[str, Path]:
         """Write the episode's ``result.json``, ``trace.npz`` (and ``final.png``, ...)
-        with :meth:`RunRecord.save`; keywords go to it (``png=False``, ``gif=True``)."""
-        return self.record(policy).save(out_dir, **kwargs)
+        with :func:`mrexplore.save_run`; keywords go to it (``png=False``, ``gif=True``)."""
+        from mrexplore.rundir import save_run
+
+        return save_run(self.record(policy), out_dir, **kwargs)
 
     # ------------------------------------------------------------------ internals
     def _require_simulation(self) -> Simulation:

@@ -9,8 +9,8 @@ temporary arrays of a tick and of the metrics at the end of the run;
 ``MemoryError`` (or the kernel's OOM killer) minutes into the run.
 
 The byte counts below were read off the allocations in ``sim/engine.py``,
-``sim/record.py``, ``comm/*``, ``planning/distance.py``, ``strategies/*`` and
-``metrics/*``, and checked against the peak resident memory of real runs (see
+``sim/record.py``, ``trace.py``, ``comm/*``, ``planning/distance.py``,
+``strategies/*`` and ``metrics/*``, and checked against the peak resident memory of real runs (see
 :func:`estimate_run_bytes`).
 """
 

@@ -48,17 +48,12 @@ from mrexplore.planning import distance_field, extract_path
 from mrexplore.planning.distance import fields_computed
 from mrexplore.planning.visibility import clip_radius, ray_table, visible_cells_kernel
 from mrexplore.seeding import make_streams
-from mrexplore.sim.record import (
-    BELIEF_CELLS_AUTO,
-    RunRecord,
-    component_labels,
-    mark_known_changed,
-    pack_links,
-)
+from mrexplore.sim.record import BELIEF_CELLS_AUTO, RunRecord, mark_known_changed
 from mrexplore.sim.scenario import Cell, Scenario
 from mrexplore.sim.world import World, build_world, cells_from_length
 from mrexplore.strategies.base import Decision, RobotView, Strategy
 from mrexplore.strategies.registry import get_strategy, make_strategy
+from mrexplore.trace import component_labels, pack_links
 
 logger = logging.getLogger(__name__)
 
@@ -663,7 +658,6 @@ class Simulation:
         self.comm.send(message, tick)
 
     # ------------------------------------------------------------------ loop
-    # ------------------------------------------------------------------ stepping
     def start(self) -> None:
         """Tick 0: links, first sensing, first flush, first record. Called by
         :meth:`run`; callers that drive the run tick by tick (the RL environment)

@@ -1,62 +1,19 @@
-"""The record of one run and the files it leaves behind (DESIGN §8).
+"""The record of one run and the data files it leaves behind (DESIGN §8).
 
-``result.json`` holds the full scenario (under the CLI's option names) and the
-metrics; ``trace.npz`` holds the arrays anyone can re-check the run from:
+:meth:`RunRecord.save` writes ``result.json`` (the full scenario under the CLI's
+option names, and the metrics) and ``trace.npz``, whose arrays are described in
+:mod:`mrexplore.trace`, the trace schema. It writes data only: the pictures
+(``final.png``, ``run.gif``, ...) are drawn by :mod:`mrexplore.viz`, and
+:func:`mrexplore.save_run` writes both, as ``mrexplore run --out`` does.
 
-================  ==================  ==============================================
-array             shape, dtype        meaning
-================  ==================  ==============================================
-truth             H x W uint8         1 = occupied
-explorable        H x W bool          free cells reachable from the start cells
-positions         T+1 x N x 2 int32   row, col of each robot at each tick
-first_known       H x W int32         first tick any robot knew the cell, -1 never
-alive             T+1 x N bool        robot alive at the end of the tick
-distance          T+1 x N float64     cumulative path length travelled (cells)
-goals             T+1 x N x 2 int32   each robot's goal after the tick, -1 none
-sense_count       H x W uint16        how many robots sensed the cell
-sensed_by_robot   N int64             cells each robot sensed itself
-known_explorable  T+1 int64           explorable cells known to the team
-robot_complete    N int32             first tick robot i's own belief held every
-                                      explorable cell, -1 never
-coverage          T+1 float64         known_explorable / explorable cells
-bytes_per_tick    T+1 int64           bytes sent at each tick
-bytes_by_robot    N int64             bytes sent by each robot
-subnetworks       T+1 int64           number of sub-networks at each tick
-group_diameter    T+1 float64         largest distance between two robots (cells)
-sensor_range      () float64          sensor radius in cells
-speed             () float64          cells of path per tick
-component         T+1 x N int16       sub-network of each robot during the tick, -1
-                                      failed (optional)
-link_bits         T+1 x B uint8       direct links during the tick, packed (optional)
-robot_first_known N x H x W int32     first tick robot i knew the cell, -1 never
-                                      (optional)
-================  ==================  ==============================================
-
-The last three arrays feed the animations and the HTML replay (:mod:`mrexplore.viz`);
-traces written before they existed lack them (and ``robot_complete``), and every
-reader treats them as optional (:func:`load_trace` loads any ``trace.npz``).
-
-* ``component[t, i]`` is the index of robot ``i``'s sub-network in the list of
-  connected components of the link graph in force during tick ``t`` (components
-  ordered by their lowest robot id, so the group holding robot 0 is 0), ``-1`` for
-  a robot that has failed by then. ``subnetworks[t]`` is the number of labels.
-* ``link_bits[t]`` is ``numpy.packbits`` of the ``N (N - 1) / 2`` flags "robots
-  ``a < b`` are linked" in the order (0, 1), (0, 2), ..., (0, N-1), (1, 2), ...;
-  :func:`unpack_links` turns it back into pairs or an ``N x N`` matrix.
-  The links of tick ``t`` are those the communication model computed at its start,
-  from the positions at the end of tick ``t - 1`` (tick 0: the start cells).
-* ``robot_first_known[i]`` is the first tick at whose end robot ``i``'s own belief
-  held the cell as free or occupied, whether it sensed the cell or was told about
-  it. It costs ``4 N H W`` bytes in memory, so the simulator records it only when
-  asked (``Simulation(..., record_beliefs=True)``, ``mrexplore run
-  --belief-panels``) or, by default, when ``N H W <= BELIEF_CELLS_AUTO``.
+The schema's names (:func:`load_trace`, :func:`pack_links`, :func:`n_link_pairs`,
+...) are importable from here as well, as they were before the schema had its
+own module.
 """
 
 from __future__ import annotations
 
-import itertools
 import json
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -69,63 +26,35 @@ from mrexplore import __version__
 from mrexplore.metrics import group_diameter, json_safe, summarize
 from mrexplore.sim.scenario import Scenario
 from mrexplore.sim.world import World
+from mrexplore.trace import (
+    OPTIONAL_TRACE_ARRAYS,
+    REQUIRED_TRACE_ARRAYS,
+    component_labels,
+    load_trace,
+    n_link_pairs,
+    pack_links,
+    save_trace,
+    unpack_links,
+)
+
+__all__ = [
+    "BELIEF_CELLS_AUTO",
+    "OPTIONAL_TRACE_ARRAYS",
+    "REQUIRED_TRACE_ARRAYS",
+    "RunRecord",
+    "component_labels",
+    "load_trace",
+    "mark_known",
+    "mark_known_changed",
+    "n_link_pairs",
+    "pack_links",
+    "save_trace",
+    "unpack_links",
+]
 
 #: Default limit on ``N x H x W`` (robots x cells) up to which every robot's own
 #: ``robot_first_known`` is recorded (32 MiB of int32); above it only on request.
 BELIEF_CELLS_AUTO = 2**23
-
-#: Arrays that traces written by older versions lack.
-OPTIONAL_TRACE_ARRAYS = ("component", "link_bits", "robot_first_known", "robot_complete")
-
-
-def n_link_pairs(n_robots: int) -> int:
-    """How many unordered robot pairs ``a < b`` a team of ``n_robots`` has."""
-    return n_robots * (n_robots - 1) // 2
-
-
-def pack_links(links: Iterable[tuple[int, int]], n_robots: int) -> npt.NDArray[np.uint8]:
-    """One row of ``link_bits``: the links ``(a, b)`` as packed pair flags.
-
-    >>> pack_links([(0, 1), (1, 2)], 3).tolist()
-    [160]
-    """
-    flags = np.zeros(n_link_pairs(n_robots), dtype=bool)
-    flat = itertools.chain.from_iterable(links)
-    pairs = np.fromiter(flat, dtype=np.int64).reshape(-1, 2)
-    low, high = pairs.min(axis=1), pairs.max(axis=1)
-    flags[low * n_robots - low * (low + 1) // 2 + (high - low - 1)] = True
-    packed: npt.NDArray[np.uint8] = np.packbits(flags)
-    return packed
-
-
-def unpack_links(link_bits: npt.ArrayLike, n_robots: int) -> npt.NDArray[np.bool_]:
-    """``link_bits`` (one row, or ``T+1`` rows) as symmetric ``N x N`` link matrices.
-
-    >>> matrix = unpack_links(pack_links([(0, 2)], 3), 3)
-    >>> matrix.astype(int).tolist()
-    [[0, 0, 1], [0, 0, 0], [1, 0, 0]]
-    """
-    bits = np.asarray(link_bits, dtype=np.uint8)
-    rows = bits.reshape(-1, bits.shape[-1]) if bits.ndim else bits.reshape(1, 1)
-    flags = np.unpackbits(rows, axis=1, count=n_link_pairs(n_robots)).astype(bool)
-    low, high = np.triu_indices(n_robots, k=1)
-    matrix = np.zeros((rows.shape[0], n_robots, n_robots), dtype=bool)
-    matrix[:, low, high] = flags
-    matrix[:, high, low] = flags
-    result: npt.NDArray[np.bool_] = matrix if bits.ndim > 1 else matrix[0]
-    return result
-
-
-def component_labels(groups: Iterable[Iterable[int]], n_robots: int) -> npt.NDArray[np.int16]:
-    """One row of ``component``: the index of each robot's group, -1 if in none.
-
-    >>> component_labels([{0, 2}, {1}], 4).tolist()
-    [0, 1, 0, -1]
-    """
-    labels = np.full(n_robots, -1, dtype=np.int16)
-    for label, group in enumerate(groups):
-        labels[list(group)] = label
-    return labels
 
 
 @numba.njit(cache=True, nogil=True)
@@ -172,17 +101,6 @@ def mark_known_changed(
             shadow[i] = belief[i]
             if first_known[i] < 0 and belief[i] != unknown:
                 first_known[i] = tick
-
-
-def load_trace(path: str | Path) -> dict[str, np.ndarray]:
-    """Every array of a ``trace.npz`` (any version) as a dict of numpy arrays.
-
-    Traces written before :data:`OPTIONAL_TRACE_ARRAYS` existed simply lack those
-    keys; nothing is invented for them.
-    """
-    # Our own file handle: np.load leaves its own open when the file is not a zip.
-    with open(Path(path), "rb") as handle, np.load(handle, allow_pickle=False) as data:
-        return {name: data[name] for name in data.files}
 
 
 @dataclass
@@ -318,23 +236,11 @@ class RunRecord:
         )
         return json_safe(out)
 
-    def save(
-        self,
-        out_dir: str | Path,
-        *,
-        gif: bool = False,
-        png: bool = True,
-        mp4: bool = False,
-        belief_panels: bool = False,
-        max_frames: int | None = None,
-        replace: bool = False,
-    ) -> dict[str, Path]:
-        """Write ``result.json``, ``trace.npz``, ``final.png`` (and ``run.gif``, ``run.mp4``).
+    def save(self, out_dir: str | Path, *, replace: bool = False) -> dict[str, Path]:
+        """Write ``result.json`` and ``trace.npz`` into ``out_dir``: data only.
 
-        The animations are those of :func:`mrexplore.viz.save_animation` (links,
-        targets, header; one panel per robot's own belief with ``belief_panels``,
-        which needs ``robot_first_known``); ``max_frames`` defaults to 300. An MP4
-        needs ``ffmpeg`` on ``PATH``.
+        The pictures of the run (``final.png``, ``run.gif``, ``run.mp4``) are
+        drawn by :mod:`mrexplore.viz`; :func:`mrexplore.save_run` writes both.
 
         By default the files are written into ``out_dir`` (created if needed),
         overwriting files of the same names and leaving any others. With
@@ -347,46 +253,11 @@ class RunRecord:
             from mrexplore.rundir import staged_dir
 
             with staged_dir(out_dir) as stage:
-                staged = self.save(
-                    stage,
-                    gif=gif,
-                    png=png,
-                    mp4=mp4,
-                    belief_panels=belief_panels,
-                    max_frames=max_frames,
-                )
+                staged = self.save(stage)
             return {name: Path(out_dir) / path.name for name, path in staged.items()}
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         written = {"result": out / "result.json", "trace": out / "trace.npz"}
-        arrays = self.trace_arrays()
-        np.savez_compressed(written["trace"], **arrays)  # type: ignore[arg-type]  # stub types allow_pickle as **kwds
+        save_trace(written["trace"], self.trace_arrays())
         written["result"].write_text(json.dumps(self.result(), indent=2) + "\n")
-        if png or gif or mp4:
-            from mrexplore import viz
-
-            title = (
-                f"{self.scenario.strategy}, {self.scenario.robots} robots on {self.world.grid.name}"
-            )
-            if png:
-                written["final"] = viz.save_final_png(
-                    out / "final.png",
-                    arrays["truth"],
-                    self.first_known,
-                    self.positions,
-                    title=f"{title}: {self.status} at tick {self.ticks}",
-                    credit=self.world.grid.credit,
-                    alive=self.alive,
-                    explorable=self.world.explorable,
-                )
-            frames = {"max_frames": max_frames} if max_frames is not None else {}
-            for wanted, name in ((gif, "gif"), (mp4, "mp4")):
-                if wanted:
-                    written[name] = viz.save_animation(
-                        out / f"run.{name}",
-                        arrays,
-                        belief_panels=belief_panels,
-                        title=title,
-                        **frames,
-                    )
         return written

@@ -2,7 +2,7 @@
 
 Everything here reads a run record (the arrays of ``trace.npz``: ``truth``,
 ``first_known``, ``positions`` and optionally ``alive``, ``goals``, ``component``,
-``link_bits``, ``robot_first_known``, see :mod:`mrexplore.sim.record`) and writes
+``link_bits``, ``robot_first_known``, see :mod:`mrexplore.trace`) and writes
 images, so any saved run can be viewed later:
 
 * :mod:`mrexplore.viz.render`: single frames, a plain GIF, the summary PNG;

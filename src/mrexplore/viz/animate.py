@@ -15,7 +15,7 @@ A frame shows, at one tick:
   robot itself knew at that tick (framed in its colour), to see the maps of two
   sub-networks drift apart after a partition (Sheng et al., Fig. 9).
 
-Everything comes from the arrays of ``trace.npz`` (:mod:`mrexplore.sim.record`);
+Everything comes from the arrays of ``trace.npz`` (:mod:`mrexplore.trace`);
 links, targets and belief panels appear only when the trace has ``link_bits`` and
 ``component``, ``goals`` and ``robot_first_known``. A belief panel shows which cells
 the robot knew, coloured by ground truth.
@@ -39,6 +39,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore.errors import MrexploreError, MrexploreInputError
+from mrexplore.trace import n_link_pairs
 from mrexplore.viz.render import (
     _I_BODY0,
     _I_KNOWN_FREE,
@@ -330,7 +331,7 @@ def _link_line(draw: Any, start: tuple[float, float], end: tuple[float, float], 
 def every_pair_linked(link_bits: npt.NDArray[Any], component: npt.NDArray[Any]) -> bool:
     """Whether at every tick every two live robots were linked (unlimited range).
 
-    >>> from mrexplore.sim.record import pack_links
+    >>> from mrexplore.trace import pack_links
     >>> bits = np.stack([pack_links([(0, 1)], 3), pack_links([(0, 1)], 3)])
     >>> every_pair_linked(bits, np.array([[0, 0, -1], [0, 0, 1]]))
     False
@@ -344,8 +345,6 @@ def _link_pairs(
     link_bits: npt.NDArray[Any], n_robots: int, n_ticks: int
 ) -> list[npt.NDArray[np.intp]]:
     """Per tick, the linked pairs ``(a, b)``, ``a < b``, as a ``K x 2`` array."""
-    from mrexplore.sim.record import n_link_pairs
-
     n_pairs = n_link_pairs(n_robots)
     expected = (n_ticks, -(-n_pairs // 8))
     if link_bits.shape != expected:

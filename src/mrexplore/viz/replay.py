@@ -47,6 +47,7 @@ import numpy.typing as npt
 
 from mrexplore import __version__
 from mrexplore.errors import MrexploreInputError
+from mrexplore.trace import REQUIRED_TRACE_ARRAYS, load_trace
 from mrexplore.viz.animate import every_pair_linked
 from mrexplore.viz.render import (
     KNOWN_FREE_RGB,
@@ -259,13 +260,11 @@ def replay_html(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
 
 
 #: Arrays every trace has (DESIGN: the run contract); the rest are optional.
-REQUIRED_ARRAYS = ("truth", "first_known", "positions")
+REQUIRED_ARRAYS = REQUIRED_TRACE_ARRAYS
 
 
 def load_run(run_dir: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[str, Any]]:
     """The trace arrays and ``result.json`` (``{}`` if absent) of a run folder."""
-    from mrexplore.sim.record import load_trace
-
     folder = Path(run_dir)
     if not folder.is_dir():
         raise MrexploreInputError(f"{folder}: not a run folder (written by mrexplore run --out)")
