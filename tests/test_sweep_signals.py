@@ -117,7 +117,7 @@ def _sigterm_case(
     engine: str,
     signum: signal.Signals = signal.SIGTERM,
 ) -> None:
-    seeds = 12  # enough that a loaded machine cannot finish them all before the signal
+    seeds = 6
     extra = () if engine == "local" else ("--engine", engine)
     process, out, marker = _start(tmp_path, seeds, *extra)
     try:
