@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import robot_view
 from mrexplore.errors import MrexploreInputError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import filter_by_gain, frontier_mask, information_gain
@@ -25,23 +26,7 @@ U, F, X = UNKNOWN, FREE, OCCUPIED
 
 
 def _view(belief: np.ndarray, position: tuple[int, int], sensor_range: float = 4.0) -> RobotView:
-    return RobotView(
-        robot_id=0,
-        n_robots=1,
-        tick=1,
-        position=position,
-        belief=belief,
-        goal=None,
-        path_remaining=0,
-        arrived=False,
-        blocked=False,
-        inbox=(),
-        subnetwork=frozenset({0}),
-        sensor_range=sensor_range,
-        speed=1.0,
-        rng=np.random.default_rng(0),
-        new_cells=0,
-    )
+    return robot_view(belief, position, sensor_range=sensor_range)
 
 
 # ---------------------------------------------------------------- budget

@@ -9,6 +9,7 @@ from itertools import pairwise
 import numpy as np
 import pytest
 
+from conftest import robot_view
 from mrexplore.checks import check_strategy
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
@@ -237,23 +238,7 @@ def test_infeasible_points_are_never_goals() -> None:
     belief[2:8, 2:8] = FREE
     belief[2:8, 8] = OCCUPIED
     belief[2:8, 12:16] = FREE
-    view = RobotView(
-        robot_id=0,
-        n_robots=1,
-        tick=1,
-        position=(4, 4),
-        belief=belief,
-        goal=None,
-        path_remaining=0,
-        arrived=False,
-        blocked=False,
-        inbox=(),
-        subnetwork=frozenset({0}),
-        sensor_range=4.0,
-        speed=1.0,
-        rng=np.random.default_rng(0),
-        new_cells=0,
-    )
+    view = robot_view(belief, (4, 4))
     row = strategy.row(view, np.array([[2, 5], [4, 12], [4, 4]]))
     assert row[0] < INFEASIBLE
     assert row[1] == INFEASIBLE  # behind the wall: unreachable
@@ -361,23 +346,7 @@ def test_a_timer_that_does_not_idle_also_opens_rounds_on_events() -> None:
 
 
 def _corridor_view(belief: np.ndarray) -> RobotView:
-    return RobotView(
-        robot_id=0,
-        n_robots=1,
-        tick=1,
-        position=(5, 10),
-        belief=belief,
-        goal=None,
-        path_remaining=0,
-        arrived=False,
-        blocked=False,
-        inbox=(),
-        subnetwork=frozenset({0}),
-        sensor_range=4.0,
-        speed=1.0,
-        rng=np.random.default_rng(0),
-        new_cells=0,
-    )
+    return robot_view(belief, (5, 10))
 
 
 def test_the_frontier_filter_drops_points_that_would_reveal_little() -> None:
