@@ -13,6 +13,7 @@ when its belief gained any new cell, or every ``replan_every`` ticks.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
@@ -162,6 +163,26 @@ REPLAN_PARAMS: dict[str, Param] = {
         True, "", "re-plan when the goal is no longer a frontier cell"
     ),
 }
+
+
+def frontier_params(own: Mapping[str, Param], **replan_defaults: Any) -> dict[str, Param]:
+    """A frontier strategy's parameters: its ``own``, then the re-planning rules of
+    :data:`REPLAN_PARAMS`, with the defaults named in ``replan_defaults`` changed.
+
+    >>> params = frontier_params({"beta": Param(1.0)}, replan_on_target_explored=False)
+    >>> list(params), params["replan_on_target_explored"].default
+    (['beta', 'replan_every', 'replan_on_new_info', 'replan_on_target_explored'], False)
+    """
+    unknown = sorted(set(replan_defaults) - set(REPLAN_PARAMS))
+    if unknown:
+        raise TypeError(f"{unknown[0]} is not a re-planning rule")
+    replan = {
+        name: dataclasses.replace(spec, default=replan_defaults[name])
+        if name in replan_defaults
+        else spec
+        for name, spec in REPLAN_PARAMS.items()
+    }
+    return {**own, **replan}
 
 
 @dataclass(frozen=True)

@@ -39,18 +39,17 @@ import numpy.typing as npt
 from mrexplore.planning import frontier_clusters
 from mrexplore.planning.frontier_search import nearest_frontier
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     FrontierStrategy,
     Param,
     RobotView,
+    frontier_params,
     reachable_frontier_cells,
 )
 
-_FRONTIER_PARAMS: dict[str, Param] = {
+_MIN_FRONTIER_SIZE: dict[str, Param] = {
     "min_frontier_size": Param(1, "cells", "ignore frontier clusters smaller than this", low=1),
-    **REPLAN_PARAMS,
 }
 
 
@@ -65,13 +64,25 @@ def _large_clusters_only(frontier: npt.NDArray[np.bool_], min_size: int) -> npt.
     return kept if kept.any() else frontier
 
 
+def candidate_cells(
+    frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64], min_size: int
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """Rows and cols of the reachable frontier cells of clusters of at least ``min_size``
+    cells, or of every reachable frontier cell if none of those is reachable."""
+    targets = _large_clusters_only(frontier, min_size)
+    rows, cols = reachable_frontier_cells(targets, dist)
+    if rows.size == 0 and targets is not frontier:
+        rows, cols = reachable_frontier_cells(frontier, dist)
+    return rows, cols
+
+
 class NearestFrontier(FrontierStrategy):
     """Yamauchi (1998): go to the closest reachable frontier cell."""
 
     id = "nearest-frontier"
     summary = "Yamauchi 1998: each robot goes to its closest frontier, no coordination"
     citation = "B. Yamauchi, Frontier-based exploration using multiple robots, Agents 1998"
-    params: ClassVar[Mapping[str, Param]] = _FRONTIER_PARAMS
+    params: ClassVar[Mapping[str, Param]] = frontier_params(_MIN_FRONTIER_SIZE)
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -94,10 +105,7 @@ class NearestFrontier(FrontierStrategy):
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
     ) -> Cell | None:
-        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
-        rows, cols = reachable_frontier_cells(targets, dist)
-        if rows.size == 0 and targets is not frontier:
-            rows, cols = reachable_frontier_cells(frontier, dist)
+        rows, cols = candidate_cells(frontier, dist, int(self.p["min_frontier_size"]))
         if rows.size == 0:
             return None
         best = int(np.argmin(dist[rows, cols]))  # first in raster order among ties
@@ -116,20 +124,14 @@ class RandomFrontier(FrontierStrategy):
     id = "random-frontier"
     summary = "each robot picks a random reachable frontier cell (Sheng 2006 §5 case 1)"
     citation = "W. Sheng et al., Robotics and Autonomous Systems 54 (2006), §5 case (1)"
-    params: ClassVar[Mapping[str, Param]] = {
-        **_FRONTIER_PARAMS,
-        "replan_on_target_explored": Param(
-            False, "", "re-plan when the goal is no longer a frontier cell"
-        ),
-    }
+    params: ClassVar[Mapping[str, Param]] = frontier_params(
+        _MIN_FRONTIER_SIZE, replan_on_target_explored=False
+    )
 
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
     ) -> Cell | None:
-        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
-        rows, cols = reachable_frontier_cells(targets, dist)
-        if rows.size == 0 and targets is not frontier:
-            rows, cols = reachable_frontier_cells(frontier, dist)
+        rows, cols = candidate_cells(frontier, dist, int(self.p["min_frontier_size"]))
         if rows.size == 0:
             return None
         pick = int(view.rng.integers(rows.size))

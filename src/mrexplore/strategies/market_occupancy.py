@@ -243,11 +243,11 @@ from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
     distance_field,
-    extract_path,
     filter_by_gain,
     frontier_clusters,
     frontier_mask,
     information_gain,
+    path_to,
 )
 from mrexplore.planning.rrt_frontiers import (
     CLUSTERINGS,
@@ -255,15 +255,15 @@ from mrexplore.planning.rrt_frontiers import (
     samples_per_tick,
 )
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     FrontierStrategy,
     Param,
     RobotView,
+    frontier_params,
     passable,
 )
-from mrexplore.strategies.kme import hops_from
+from mrexplore.strategies.network import request_timeout, round_timeout
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -414,79 +414,83 @@ class MarketOccupancy(FrontierStrategy):
         "Decentralised market-based strategy for cooperative multi-robot exploration "
         "(§III, eqs. 1-8, Algorithm 1); frontiers: H. Umari, S. Mukhopadhyay, IROS 2017"
     )
-    params: ClassVar[Mapping[str, Param]] = {
-        "lambda_u": Param(
-            0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u", low=0
-        ),
-        "lambda_f": Param(
-            0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f", low=0
-        ),
-        "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r", low=0),
-        "r_f": Param(
-            0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
-        ),
-        "cost": Param(
-            "euclidean", "", "C_ij of eq. (3): euclidean | path", choices=("euclidean", "path")
-        ),
-        "frontier_detector": Param("grid", "", "frontier points: grid | rrt", choices=DETECTORS),
-        "rrt_eta": Param(
-            5.0, "cells", "RRT growth step (Umari: 1 m); 0 = sensor range", "eta", low=0
-        ),
-        "rrt_global_eta": Param(
-            0.0, "cells", "growth step of the global RRT; 0 = rrt_eta", "eta", low=0
-        ),
-        "rrt_samples": Param(
-            0, "samples/tick", "RRT samples per tree per tick; 0 = rrt_sample_density", low=0
-        ),
-        "rrt_sample_density": Param(
-            1.0,
-            "samples/tick/footprint",
-            "RRT samples per tree per tick per pi r^2 of the map",
-            low=0,
-            low_open=True,
-        ),
-        "rrt_vertex_spacing": Param(
-            1.0, "cells", "a free RRT edge shorter than this adds no vertex", low=0
-        ),
-        "rrt_burst": Param(
-            50, "batches", "extra RRT batches when a goal is needed and no point", low=0
-        ),
-        "rrt_clustering": Param(
-            "mean-shift", "", "merge RRT points: mean-shift | greedy", choices=CLUSTERINGS
-        ),
-        "rrt_bandwidth": Param(
-            1.5, "cells", "mean-shift bandwidth (Umari: 0.3 m)", low=0, low_open=True
-        ),
-        "rrt_cluster_radius": Param(
-            0.0, "cells", "greedy: merge RRT points closer; 0 = sensor range/2", low=0
-        ),
-        "rrt_filter_radius": Param(
-            2.5, "cells", "RRT points: information-gain radius (Umari: 0.5 m); 0 = none", low=0
-        ),
-        "rrt_filter_min_gain": Param(
-            5.0, "cells", "RRT points: drop those with fewer unknown cells (Umari: 0.2 m2)", low=0
-        ),
-        "filter_radius": Param(
-            0.0, "cells", "information-gain radius of the frontier filter; 0 = none", low=0
-        ),
-        "filter_min_gain": Param(
-            0.0, "cells", "drop frontier points with fewer unknown cells within it", low=0
-        ),
-        "round_timeout": Param(
-            0, "ticks", "decide with the rows at hand after this; 0 = auto", low=0
-        ),
-        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
-        "event_based": Param(
-            True, "", "rounds open on events (goal reached); false: every replan_every ticks"
-        ),
-        "idle_until_clock": Param(
-            True, "", "with event_based=false, a robot needing a goal waits for its clock"
-        ),
-        **REPLAN_PARAMS,
-        "replan_on_target_explored": Param(
-            False, "", "re-plan when the goal is no longer a frontier cell"
-        ),
-    }
+    params: ClassVar[Mapping[str, Param]] = frontier_params(
+        {
+            "lambda_u": Param(
+                0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u", low=0
+            ),
+            "lambda_f": Param(
+                0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f", low=0
+            ),
+            "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r", low=0),
+            "r_f": Param(
+                0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
+            ),
+            "cost": Param(
+                "euclidean", "", "C_ij of eq. (3): euclidean | path", choices=("euclidean", "path")
+            ),
+            "frontier_detector": Param(
+                "grid", "", "frontier points: grid | rrt", choices=DETECTORS
+            ),
+            "rrt_eta": Param(
+                5.0, "cells", "RRT growth step (Umari: 1 m); 0 = sensor range", "eta", low=0
+            ),
+            "rrt_global_eta": Param(
+                0.0, "cells", "growth step of the global RRT; 0 = rrt_eta", "eta", low=0
+            ),
+            "rrt_samples": Param(
+                0, "samples/tick", "RRT samples per tree per tick; 0 = rrt_sample_density", low=0
+            ),
+            "rrt_sample_density": Param(
+                1.0,
+                "samples/tick/footprint",
+                "RRT samples per tree per tick per pi r^2 of the map",
+                low=0,
+                low_open=True,
+            ),
+            "rrt_vertex_spacing": Param(
+                1.0, "cells", "a free RRT edge shorter than this adds no vertex", low=0
+            ),
+            "rrt_burst": Param(
+                50, "batches", "extra RRT batches when a goal is needed and no point", low=0
+            ),
+            "rrt_clustering": Param(
+                "mean-shift", "", "merge RRT points: mean-shift | greedy", choices=CLUSTERINGS
+            ),
+            "rrt_bandwidth": Param(
+                1.5, "cells", "mean-shift bandwidth (Umari: 0.3 m)", low=0, low_open=True
+            ),
+            "rrt_cluster_radius": Param(
+                0.0, "cells", "greedy: merge RRT points closer; 0 = sensor range/2", low=0
+            ),
+            "rrt_filter_radius": Param(
+                2.5, "cells", "RRT points: information-gain radius (Umari: 0.5 m); 0 = none", low=0
+            ),
+            "rrt_filter_min_gain": Param(
+                5.0,
+                "cells",
+                "RRT points: drop those with fewer unknown cells (Umari: 0.2 m2)",
+                low=0,
+            ),
+            "filter_radius": Param(
+                0.0, "cells", "information-gain radius of the frontier filter; 0 = none", low=0
+            ),
+            "filter_min_gain": Param(
+                0.0, "cells", "drop frontier points with fewer unknown cells within it", low=0
+            ),
+            "round_timeout": Param(
+                0, "ticks", "decide with the rows at hand after this; 0 = auto", low=0
+            ),
+            "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
+            "event_based": Param(
+                True, "", "rounds open on events (goal reached); false: every replan_every ticks"
+            ),
+            "idle_until_clock": Param(
+                True, "", "with event_based=false, a robot needing a goal waits for its clock"
+            ),
+        },
+        replan_on_target_explored=False,
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -507,14 +511,10 @@ class MarketOccupancy(FrontierStrategy):
 
     # ------------------------------------------------------------ helpers
     def _round_timeout(self, view: RobotView) -> int:
-        given = int(self.p["round_timeout"])
-        if given > 0:
-            return given
-        return 2 * view.comm_latency * hops_from(self.robot_id, view.subnetwork, view.links) + 1
+        return round_timeout(int(self.p["round_timeout"]), view, self.robot_id)
 
     def _request_timeout(self, view: RobotView) -> int:
-        given = int(self.p["request_timeout"])
-        return given if given > 0 else 2 * self._round_timeout(view) + 2
+        return request_timeout(int(self.p["request_timeout"]), self._round_timeout(view))
 
     def frontier_points(self, view: RobotView) -> IntArray:
         """The frontier list ``y`` (eqs. 1-2) of this robot's map, ``(M, 2)`` cells.
@@ -700,18 +700,14 @@ class MarketOccupancy(FrontierStrategy):
 
     def _follow(self, view: RobotView, goal: Cell) -> Decision:
         """Head for an assigned point, planning over this robot's known-free cells."""
-        if goal == view.goal:
+        if goal in (view.goal, view.position):
             return Decision()
-        if goal == view.position:
-            return Decision()
-        only_goal = np.zeros(view.belief.shape, dtype=bool)
-        only_goal[goal] = True
-        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
-        if not np.isfinite(dist[goal]):
+        path = path_to(passable(view.belief), view.position, goal)
+        if path is None:
             return Decision()
         self.last_plan_tick = view.tick
         self.requested_at = -1
-        return Decision(goal=goal, path=extract_path(dist, goal))
+        return Decision(goal=goal, path=path)
 
 
 __all__ = [

@@ -51,7 +51,6 @@ new one. The cost scale follows ``burgard`` (see its doc page).
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
@@ -62,14 +61,14 @@ from mrexplore.comm.bytes import BROADCAST, POLYGON_POINT_BYTES, fixed_size
 from mrexplore.comm.messages import Message
 from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     FrontierStrategy,
     Param,
     RobotView,
+    frontier_params,
 )
-from mrexplore.strategies.burgard import discount
+from mrexplore.strategies.utility import discount
 
 TPT = "TPT"
 
@@ -81,21 +80,22 @@ class MeierPolygon(FrontierStrategy):
     summary = "Meier et al. 2005: decentralised discounting over polygon maps (Alg. 1)"
     citation = "D. Meier, C. Stachniss, W. Burgard, ECMR 2005, §4 and Algorithm 1"
     default_sharing = "polygon"
-    params: ClassVar[Mapping[str, Param]] = {
-        "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
-        "max_range": Param(0.0, "cells", "radius of P(d); 0 = sensor range", "max_range", low=0),
-        "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
-        "respect_priority": Param(True, "", "only lower ids' targets discount"),
-        "visibility_discount": Param(
-            True, "", "discount only targets in line of sight of a received target"
-        ),
-        **REPLAN_PARAMS,
+    params: ClassVar[Mapping[str, Param]] = frontier_params(
+        {
+            "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
+            "max_range": Param(
+                0.0, "cells", "radius of P(d); 0 = sensor range", "max_range", low=0
+            ),
+            "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
+            "respect_priority": Param(True, "", "only lower ids' targets discount"),
+            "visibility_discount": Param(
+                True, "", "discount only targets in line of sight of a received target"
+            ),
+        },
         # Algorithm 1 runs "whenever a robot selects a new target location": when it
         # reached its target (or cannot reach it), not when the target got explored.
-        "replan_on_target_explored": dataclasses.replace(
-            REPLAN_PARAMS["replan_on_target_explored"], default=False
-        ),
-    }
+        replan_on_target_explored=False,
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)

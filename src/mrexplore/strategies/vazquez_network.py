@@ -284,16 +284,16 @@ import networkx as nx
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BROADCAST, POSITION_BYTES, TARGET_BYTES, fixed_size
-from mrexplore.comm.messages import TARGET, Message
+from mrexplore.comm.bytes import BROADCAST, TARGET_BYTES, fixed_size
+from mrexplore.comm.messages import TARGET, CellItem, Message, item_message
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
-    clip_radius,
-    disk_offsets,
+    disk_mask,
     distance_field,
     extract_path,
     frontier_mask,
     information_gain,
+    path_to,
 )
 from mrexplore.strategies.base import (
     REPLAN_PARAMS,
@@ -327,12 +327,8 @@ _FOREVER = 2**62
 """Ticks of a default duration that ``4 d3`` makes endless (an infinite ``d3``)."""
 
 
-@dataclass(frozen=True, slots=True)
-class PositionPayload:
-    """A robot's cell (``POSITION_BYTES``: robot, row, col)."""
-
-    robot: int
-    position: Cell
+PositionPayload = CellItem
+"""A robot and its cell (``POSITION_BYTES``: robot, row, col)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -425,20 +421,8 @@ def exclusion_mask(
     >>> exclusion_mask((3, 4), [(1, 1)], 1.0).astype(int).tolist()
     [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
     """
-    points = np.array(list(centres), dtype=np.int64).reshape(-1, 2)
-    if points.shape[0] == 0:
-        return None
-    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
-    cells = (points[:, None, :] + offsets[None, :, :]).reshape(-1, 2)
-    inside = (
-        (cells[:, 0] >= 0)
-        & (cells[:, 0] < shape[0])
-        & (cells[:, 1] >= 0)
-        & (cells[:, 1] < shape[1])
-    )
-    mask = np.zeros(shape, dtype=np.bool_)
-    mask[cells[inside, 0], cells[inside, 1]] = True
-    return mask
+    cells = list(centres)
+    return disk_mask(shape, cells, radius) if cells else None
 
 
 def utility(
@@ -646,12 +630,7 @@ def route_around(free: BoolGrid, start: Cell, goal: Cell, obstacles: Sequence[Ce
         rows, cols = np.asarray(obstacles).T
         grid[rows, cols] = False
     grid[goal] = free[goal]  # a robot on the goal itself does not make it unreachable
-    target = np.zeros(grid.shape, dtype=bool)
-    target[goal] = True
-    dist = distance_field(grid, start, targets=target)
-    if not np.isfinite(dist[goal]):
-        return None
-    return extract_path(dist, goal)
+    return path_to(grid, start, goal)
 
 
 # ---------------------------------------------------------------------- strategy
@@ -866,7 +845,7 @@ class VazquezNetwork(Strategy):
             if isinstance(payload, PositionPayload):
                 old = self.positions.get(payload.robot)
                 if old is None or old[1] <= message.tick_sent:
-                    self.positions[payload.robot] = (payload.position, message.tick_sent)
+                    self.positions[payload.robot] = (payload.cell, message.tick_sent)
             elif isinstance(payload, TargetPayload):
                 old_target = self.destinations.get(payload.robot)
                 if old_target is not None and old_target[1] > message.tick_sent:
@@ -960,9 +939,7 @@ class VazquezNetwork(Strategy):
         if joined or tick - self.last_position_tick >= int(self.p["position_period"]):
             self.last_position_tick = tick
             payload = PositionPayload(self.robot_id, view.position)
-            messages.append(
-                Message(POSITION, self.robot_id, BROADCAST, fixed_size(POSITION_BYTES), payload)
-            )
+            messages.append(item_message(POSITION, self.robot_id, BROADCAST, payload))
         if joined and self.announced is not None:
             messages.append(self._target_message(self.announced))
 

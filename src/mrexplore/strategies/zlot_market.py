@@ -123,7 +123,6 @@ Interpretations (where the sources are silent):
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import ClassVar
@@ -131,16 +130,10 @@ from typing import ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BID_BYTES, BROADCAST, TARGET_BYTES, fixed_size, float32_on_wire
-from mrexplore.comm.messages import BID, Message
+from mrexplore.comm.bytes import BROADCAST, float32_on_wire
+from mrexplore.comm.messages import BID, BidItem, CellItem, Message, item_message
 from mrexplore.errors import ScenarioError
-from mrexplore.planning import (
-    SQRT2,
-    distance_field,
-    extract_path,
-    frontier_mask,
-    information_gain,
-)
+from mrexplore.planning import SQRT2, distance_field, frontier_mask, information_gain, path_to
 from mrexplore.planning.distance import count_field, distance_field_kernel
 from mrexplore.strategies.base import (
     Cell,
@@ -152,6 +145,7 @@ from mrexplore.strategies.base import (
     passable,
     reachable_frontier_cells,
 )
+from mrexplore.strategies.network import hop_distances
 
 __all__ = [
     "AUCTION",
@@ -172,39 +166,16 @@ __all__ = [
 AUCTION = "auction"
 AWARD = "award"
 
-AUCTION_SIZE = fixed_size(BID_BYTES)
-"""Announcement: auctioneer uint16, goal row/col uint16, reserve float32 (a bid item)."""
-BID_SIZE = fixed_size(BID_BYTES)
-AWARD_SIZE = fixed_size(TARGET_BYTES)
-
 GENERATION_RETRY_TICKS = 5
 """Ticks between two attempts to generate goals when the last one found no frontier."""
 
-
-@dataclass(frozen=True, slots=True)
-class AuctionPayload:
-    """An auction announcement: ``goal`` is for sale above ``reserve``."""
-
-    auctioneer: int
-    goal: Cell
-    reserve: float
-
-
-@dataclass(frozen=True, slots=True)
-class BidPayload:
-    """A sealed bid of ``bidder`` for ``goal`` (sent to its auctioneer only)."""
-
-    bidder: int
-    goal: Cell
-    value: float
-
-
-@dataclass(frozen=True, slots=True)
-class AwardPayload:
-    """The auctioneer sold ``goal`` to ``winner``."""
-
-    winner: int
-    goal: Cell
+# The three messages carry items of the byte model (mrexplore.comm.messages).
+AuctionPayload = BidItem
+"""An auction announcement, a bid item: the auctioneer, the goal for sale, the reserve."""
+BidPayload = BidItem
+"""A sealed bid (sent to the auctioneer only): the bidder, the goal, its value."""
+AwardPayload = CellItem
+"""The auctioneer sold the goal (``cell``) to the winner (``robot``)."""
 
 
 @dataclass
@@ -320,19 +291,7 @@ def hops_to_farthest(robot: int, links: Iterable[tuple[int, int]]) -> int:
     >>> hops_to_farthest(0, [(0, 1), (1, 2)])
     2
     """
-    neighbours: dict[int, set[int]] = {}
-    for a, b in links:
-        neighbours.setdefault(a, set()).add(b)
-        neighbours.setdefault(b, set()).add(a)
-    depth = {robot: 0}
-    queue = deque([robot])
-    while queue:
-        node = queue.popleft()
-        for nxt in neighbours.get(node, ()):
-            if nxt not in depth:
-                depth[nxt] = depth[node] + 1
-                queue.append(nxt)
-    return max(depth.values())
+    return max(hop_distances(robot, links).values())
 
 
 def octile_distances(cell: Cell, others: Sequence[Cell]) -> npt.NDArray[np.float64]:
@@ -581,7 +540,7 @@ class ZlotMarket(Strategy):
             reserve = float(float32_on_wire(reserve))
             self.auctions[goal] = OpenAuction(reserve, closes_at)
             payload = AuctionPayload(self.robot_id, goal, reserve)
-            messages.append(Message(AUCTION, self.robot_id, BROADCAST, AUCTION_SIZE, payload))
+            messages.append(item_message(AUCTION, self.robot_id, BROADCAST, payload))
         return messages
 
     # ------------------------------------------------------------------ tick
@@ -592,23 +551,21 @@ class ZlotMarket(Strategy):
         for message in view.inbox:
             payload = message.payload
             if message.type == AUCTION and isinstance(payload, AuctionPayload):
-                if payload.auctioneer != self.robot_id:
-                    self.foreign_goals[payload.goal] = payload.auctioneer
+                if payload.robot != self.robot_id:  # the auctioneer
+                    self.foreign_goals[payload.cell] = payload.robot
                     announcements.append(payload)
             elif message.type == BID and isinstance(payload, BidPayload):
-                auction = self.auctions.get(payload.goal)
+                auction = self.auctions.get(payload.cell)
                 if auction is not None and (
                     payload.value > auction.best_value
-                    or (
-                        payload.value == auction.best_value and payload.bidder < auction.best_bidder
-                    )
+                    or (payload.value == auction.best_value and payload.robot < auction.best_bidder)
                 ):
-                    auction.best_value, auction.best_bidder = payload.value, payload.bidder
+                    auction.best_value, auction.best_bidder = payload.value, payload.robot
             elif message.type == AWARD and isinstance(payload, AwardPayload):
-                if payload.winner == self.robot_id:
-                    won.append(payload.goal)
+                if payload.robot == self.robot_id:  # the winner
+                    won.append(payload.cell)
                 else:
-                    self.foreign_goals[payload.goal] = payload.winner
+                    self.foreign_goals[payload.cell] = payload.robot
 
         # Step 6 bookkeeping: drop goals reached, explored or that blocked the robot.
         if view.blocked and self.tour and view.goal is None:
@@ -623,17 +580,16 @@ class ZlotMarket(Strategy):
         wanted = [
             a
             for a in announcements
-            if a.goal not in self.tour and frontier_at(view.belief, a.goal[0], a.goal[1])
+            if a.cell not in self.tour and frontier_at(view.belief, a.cell[0], a.cell[1])
         ]
         if wanted:
-            bids = self.bids_for(view, [a.goal for a in wanted], [a.reserve for a in wanted])
+            bids = self.bids_for(view, [a.cell for a in wanted], [a.value for a in wanted])
             for announcement, value in zip(wanted, bids, strict=True):
                 value = float(float32_on_wire(value))
-                if np.isfinite(value) and value > announcement.reserve:
-                    payload = BidPayload(self.robot_id, announcement.goal, value)
-                    decision.messages.append(
-                        Message(BID, self.robot_id, announcement.auctioneer, BID_SIZE, payload)
-                    )
+                if np.isfinite(value) and value > announcement.value:  # above the reserve
+                    bid = BidPayload(self.robot_id, announcement.cell, value)
+                    auctioneer = announcement.robot
+                    decision.messages.append(item_message(BID, self.robot_id, auctioneer, bid))
 
         # Step 4, auctioneer side: close due auctions.
         for goal in [g for g, a in self.auctions.items() if view.tick >= a.closes_at]:
@@ -643,10 +599,8 @@ class ZlotMarket(Strategy):
             if winning_bid({auction.best_bidder: auction.best_value}, auction.reserve) is None:
                 continue
             self.tour.remove(goal)
-            payload_award = AwardPayload(auction.best_bidder, goal)
-            decision.messages.append(
-                Message(AWARD, self.robot_id, BROADCAST, AWARD_SIZE, payload_award)
-            )
+            award = AwardPayload(auction.best_bidder, goal)
+            decision.messages.append(item_message(AWARD, self.robot_id, BROADCAST, award))
 
         alone = len(view.subnetwork) < 2
         # Step 1: generate goals when the tour runs short; auction them.
@@ -680,11 +634,9 @@ class ZlotMarket(Strategy):
             goal = self.tour[0]
             if view.goal == goal:
                 return
-            only_goal = np.zeros(view.belief.shape, dtype=bool)
-            only_goal[goal] = True
-            dist = distance_field(self.distances(view).free, view.position, targets=only_goal)
-            if np.isfinite(dist[goal]):
-                decision.goal, decision.path = goal, extract_path(dist, goal)
+            path = path_to(self.distances(view).free, view.position, goal)
+            if path is not None:
+                decision.goal, decision.path = goal, path
                 return
             self.tour.pop(0)
         if view.goal is not None:

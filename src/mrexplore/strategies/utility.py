@@ -1,0 +1,43 @@
+"""Utility discounting around goals: Burgard et al.'s step, shared by ``burgard``
+(central assignment) and ``meier-polygon`` (each robot around the targets it heard of).
+
+Meier, Stachniss & Burgard §4, eq. (1) and Algorithm 1 step 5; Burgard et al. 2005.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.sensing import visible_cells_flat
+from mrexplore.strategies.base import Cell
+
+
+def coverage_probability(distance: npt.NDArray[np.float64], max_range: float) -> np.ndarray:
+    """Meier et al. eq. (1): P(d) = 1 - d / max_range for d < max_range, else 0."""
+    return np.where(distance < max_range, 1.0 - distance / max_range, 0.0)
+
+
+def discount(
+    utility: npt.NDArray[np.float64],
+    target_rows: npt.NDArray[np.int64],
+    target_cols: npt.NDArray[np.int64],
+    goal: Cell,
+    max_range: float,
+    occupied: npt.NDArray[np.bool_] | None = None,
+) -> None:
+    """Reduce the utility of every target near ``goal`` by P(||t - goal||), in place.
+
+    With ``occupied`` (the planner's map, ``True`` where a cell is known to block
+    sight) only the targets in the visibility area of ``goal`` are reduced (Meier et
+    al. Algorithm 1 step 5: "Reduce the utility of each target point t' in the
+    visibility area"): those in line of sight of ``goal`` within ``max_range``
+    (:mod:`mrexplore.planning.visibility`; unknown cells do not block sight).
+    """
+    d = np.hypot(target_rows - goal[0], target_cols - goal[1])
+    reduction = coverage_probability(d, max_range)
+    if occupied is not None and reduction.any():
+        seen = np.zeros(occupied.size, dtype=bool)
+        seen[visible_cells_flat(occupied, goal, max_range)] = True
+        reduction = np.where(seen[target_rows * occupied.shape[1] + target_cols], reduction, 0.0)
+    utility -= reduction
