@@ -127,7 +127,7 @@ from mrexplore.planning import distance_field, frontier_mask
 from mrexplore.strategies.base import Cell, Decision, Param, RobotView, frontier_params, passable
 from mrexplore.strategies.coordinated import CoordinatedWithFallback
 from mrexplore.strategies.fallback import FALLBACK_PARAMS
-from mrexplore.strategies.utility import coverage_probability, discount
+from mrexplore.strategies.utility import DISCOUNT_PARAMS, coverage_probability, discount
 
 __all__ = [
     "BID_CALL",
@@ -240,19 +240,12 @@ class Burgard(CoordinatedWithFallback):
     citation = "W. Burgard et al., Coordinated multi-robot exploration, IEEE T-RO 21(3), 2005"
     params: ClassVar[Mapping[str, Param]] = frontier_params(
         {
-            "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
-            "max_range": Param(
-                0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range", low=0
-            ),
-            "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
+            **DISCOUNT_PARAMS,
             "assign": Param(
                 "team",
                 "",
                 "whenever a robot needs a goal, assign the whole team, or only those that asked",
                 choices=("team", "requesting"),
-            ),
-            "visibility_discount": Param(
-                True, "", "discount only targets in line of sight of a goal (its visibility area)"
             ),
             "status_period": Param(
                 1, "ticks", "with assign=team, each robot reports its position this often", low=1

@@ -64,25 +64,36 @@ def _large_clusters_only(frontier: npt.NDArray[np.bool_], min_size: int) -> npt.
     return kept if kept.any() else frontier
 
 
-def candidate_cells(
-    frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64], min_size: int
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-    """Rows and cols of the reachable frontier cells of clusters of at least ``min_size``
-    cells, or of every reachable frontier cell if none of those is reachable."""
-    targets = _large_clusters_only(frontier, min_size)
-    rows, cols = reachable_frontier_cells(targets, dist)
-    if rows.size == 0 and targets is not frontier:
-        rows, cols = reachable_frontier_cells(frontier, dist)
-    return rows, cols
+class _FrontierBaseline(FrontierStrategy):
+    """What both baselines share: the candidates, the reachable frontier cells of
+    clusters of at least ``min_frontier_size`` cells (every reachable frontier cell if
+    none of those is reachable); each baseline picks one of them by :meth:`pick`."""
+
+    params: ClassVar[Mapping[str, Param]] = frontier_params(_MIN_FRONTIER_SIZE)
+
+    def choose_goal(
+        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+    ) -> Cell | None:
+        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
+        rows, cols = reachable_frontier_cells(targets, dist)
+        if rows.size == 0 and targets is not frontier:
+            rows, cols = reachable_frontier_cells(frontier, dist)
+        if rows.size == 0:
+            return None
+        index = self.pick(view, dist[rows, cols])
+        return int(rows[index]), int(cols[index])
+
+    def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
+        """Index of the chosen candidate, given their path costs (cells) in raster order."""
+        raise NotImplementedError
 
 
-class NearestFrontier(FrontierStrategy):
+class NearestFrontier(_FrontierBaseline):
     """Yamauchi (1998): go to the closest reachable frontier cell."""
 
     id = "nearest-frontier"
     summary = "Yamauchi 1998: each robot goes to its closest frontier, no coordination"
     citation = "B. Yamauchi, Frontier-based exploration using multiple robots, Agents 1998"
-    params: ClassVar[Mapping[str, Param]] = frontier_params(_MIN_FRONTIER_SIZE)
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -102,17 +113,11 @@ class NearestFrontier(FrontierStrategy):
         goal, path = found
         return Decision(goal=goal, path=path)
 
-    def choose_goal(
-        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
-    ) -> Cell | None:
-        rows, cols = candidate_cells(frontier, dist, int(self.p["min_frontier_size"]))
-        if rows.size == 0:
-            return None
-        best = int(np.argmin(dist[rows, cols]))  # first in raster order among ties
-        return int(rows[best]), int(cols[best])
+    def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
+        return int(np.argmin(costs))  # first in raster order among ties
 
 
-class RandomFrontier(FrontierStrategy):
+class RandomFrontier(_FrontierBaseline):
     """Sheng et al. (2006) case (1): a uniformly random reachable frontier cell.
 
     Unlike ``nearest-frontier``, a robot keeps its random goal until it arrives
@@ -128,11 +133,5 @@ class RandomFrontier(FrontierStrategy):
         _MIN_FRONTIER_SIZE, replan_on_target_explored=False
     )
 
-    def choose_goal(
-        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
-    ) -> Cell | None:
-        rows, cols = candidate_cells(frontier, dist, int(self.p["min_frontier_size"]))
-        if rows.size == 0:
-            return None
-        pick = int(view.rng.integers(rows.size))
-        return int(rows[pick]), int(cols[pick])
+    def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
+        return int(view.rng.integers(costs.size))

@@ -68,7 +68,7 @@ from mrexplore.strategies.base import (
     RobotView,
     frontier_params,
 )
-from mrexplore.strategies.utility import discount
+from mrexplore.strategies.utility import DISCOUNT_PARAMS, discount
 
 TPT = "TPT"
 
@@ -82,15 +82,8 @@ class MeierPolygon(FrontierStrategy):
     default_sharing = "polygon"
     params: ClassVar[Mapping[str, Param]] = frontier_params(
         {
-            "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
-            "max_range": Param(
-                0.0, "cells", "radius of P(d); 0 = sensor range", "max_range", low=0
-            ),
-            "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
+            **DISCOUNT_PARAMS,
             "respect_priority": Param(True, "", "only lower ids' targets discount"),
-            "visibility_discount": Param(
-                True, "", "discount only targets in line of sight of a received target"
-            ),
         },
         # Algorithm 1 runs "whenever a robot selects a new target location": when it
         # reached its target (or cannot reach it), not when the target got explored.

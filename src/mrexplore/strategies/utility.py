@@ -10,7 +10,20 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore.sensing import visible_cells_flat
-from mrexplore.strategies.base import Cell
+from mrexplore.strategies.base import Cell, Param
+
+DISCOUNT_PARAMS: dict[str, Param] = {
+    "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
+    "max_range": Param(
+        0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range", low=0
+    ),
+    "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
+    "visibility_discount": Param(
+        True, "", "discount only targets in line of sight of a goal (its visibility area)"
+    ),
+}
+"""The parameters of utility discounting: the trade-off ``U - beta V``, the radius of
+``P(d)``, the scale of ``V`` and where the discount applies."""
 
 
 def coverage_probability(distance: npt.NDArray[np.float64], max_range: float) -> np.ndarray:
