@@ -39,7 +39,8 @@ class Param:
     The range is declared with keywords: ``low`` and ``high`` bound numbers
     (inclusive unless ``low_open`` / ``high_open``), ``finite=False`` lets a float
     be infinite (within the bounds; NaN is never valid), ``choices`` lists the
-    values of a text parameter. :meth:`convert` refuses anything outside.
+    values of a text parameter. :meth:`convert` refuses anything outside. The tables
+    in the docs are rendered from these declarations (:mod:`mrexplore.strategies.doc`).
 
     >>> Param(1.0, low=0).describe()
     'a finite number >= 0'
@@ -61,6 +62,9 @@ class Param:
     high_open: bool = field(default=False, kw_only=True)
     finite: bool = field(default=True, kw_only=True)
     choices: tuple[str, ...] = field(default=(), kw_only=True)
+    note: str = field(default="", kw_only=True)
+    """The meaning in full for the parameter tables (paper values, our readings); ``help``,
+    the short form that error messages quote, when empty."""
 
     def describe(self) -> str:
         """The valid values in words: ``'an integer >= 0'``, ``'one of grid, rrt'``, ..."""

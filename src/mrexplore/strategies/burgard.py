@@ -20,37 +20,48 @@ again (Meier et al. §5.1: "Only a centralized coordination technique has the
 ability to choose that robot-target tuple that provides the (globally) highest
 expected utility").
 
-Parameters:
+Parameters (rendered from ``Burgard.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ==========  =======  =====  ======================================
-name                           symbol      default  unit   meaning
-=============================  ==========  =======  =====  ======================================
-``beta``                       beta        1.0      -      weight of cost against utility
-``max_range``                  max_range   0.0      cells  discount radius of P(d); 0 = the
-                                                           robot's sensor range
-``normalize_cost``             -           True     -      divide V_t^i by robot i's largest
-                                                           finite V over the targets (see notes)
-``assign``                     -           team     -      ``team``: every robot of the
-                                                           sub-network is re-assigned when one
-                                                           needs a goal; ``requesting``: only
-                                                           the robots that asked
-``visibility_discount``        -           True     -      discount only targets in line of
-                                                           sight of t; False: all within
-                                                           max_range
-``status_period``              -           1        ticks  with ``assign=team``, each robot
-                                                           reports its position this often
-``protocol``                   -           positions -     ``positions``: the coordinator
-                                                           plans on its map from reported
-                                                           positions; ``bids``: robots send
-                                                           their costs (see below)
-``request_timeout``            -           5        ticks  resend a goal request if no
-                                                           assignment came back
-``coordinator_timeout``        -           0        ticks  plan alone after waiting this long
-                                                           for a goal; 0 = 3 x request_timeout
-``block_limit``                -           2        -      give up a target after this many
-                                                           blocks on it in a row; 0 = never
-``replan_*``                   -                           see :data:`REPLAN_PARAMS`
-=============================  ==========  =======  =====  ======================================
+.. params:begin burgard
+
+=============================  =========  =========  =====  ========================================
+name                           symbol     default    unit   meaning
+=============================  =========  =========  =====  ========================================
+``beta``                       beta       1.0        -      weight of cost against utility
+``max_range``                  max_range  0.0        cells  radius of P(d); 0 = sensor range
+``normalize_cost``             -          true       -      scale each robot's costs to [0, 1]
+``visibility_discount``        -          true       -      discount only the targets in line of
+                                                            sight of a goal (its visibility area);
+                                                            false: every target within `max_range`
+``assign``                     -          team       -      whenever a robot needs a goal, re-assign
+                                                            the whole team (`team`), or only the
+                                                            robots that asked (`requesting`, our
+                                                            earlier version)
+``status_period``              -          1          ticks  with assign=team, each robot reports its
+                                                            position this often
+``protocol``                   -          positions  -      `positions`: the coordinator computes
+                                                            every cost on its map from reported
+                                                            positions (Burgard et al.); `bids`:
+                                                            every robot sends its costs to the
+                                                            frontier cells it can reach (the market
+                                                            paper's description of [3])
+``request_timeout``            -          5          ticks  resend a goal request if no assignment
+                                                            came
+``coordinator_timeout``        -          0          ticks  a robot that waited this long for a goal
+                                                            it can follow plans alone (ours, see
+                                                            below); 0 = 3 x `request_timeout`
+``block_limit``                -          2          -      a target the robot was blocked on this
+                                                            many times in a row counts as
+                                                            unreachable for it (ours, see below; 0 =
+                                                            never)
+``replan_every``               -          0          ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -          false      -      re-plan whenever the belief gained new
+                                                            cells
+``replan_on_target_explored``  -          true       -      re-plan when the goal is no longer a
+                                                            frontier cell
+=============================  =========  =========  =====  ========================================
+
+.. params:end
 
 Interpretations (where the sources are silent):
 
@@ -246,6 +257,10 @@ class Burgard(CoordinatedWithFallback):
                 "",
                 "whenever a robot needs a goal, assign the whole team, or only those that asked",
                 choices=("team", "requesting"),
+                note=(
+                    "whenever a robot needs a goal, re-assign the whole team (`team`), or "
+                    "only the robots that asked (`requesting`, our earlier version)"
+                ),
             ),
             "status_period": Param(
                 1, "ticks", "with assign=team, each robot reports its position this often", low=1
@@ -256,9 +271,19 @@ class Burgard(CoordinatedWithFallback):
                 "positions: the coordinator plans on its map from reported positions; bids: "
                 "every robot sends its costs to every frontier cell (the market paper's [3])",
                 choices=("positions", "bids"),
+                note=(
+                    "`positions`: the coordinator computes every cost on its map from "
+                    "reported positions (Burgard et al.); `bids`: every robot sends its "
+                    "costs to the frontier cells it can reach (the market paper's "
+                    "description of [3])"
+                ),
             ),
             "request_timeout": Param(
-                5, "ticks", "resend a goal request after this many ticks", low=1
+                5,
+                "ticks",
+                "resend a goal request after this many ticks",
+                low=1,
+                note="resend a goal request if no assignment came",
             ),
             **FALLBACK_PARAMS,
         }

@@ -32,9 +32,20 @@ FALLBACK_PARAMS: dict[str, Param] = {
         "ticks",
         "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
         low=0,
+        note=(
+            "a robot that waited this long for a goal it can follow plans alone "
+            "(ours, see below); 0 = 3 x `request_timeout`"
+        ),
     ),
     "block_limit": Param(
-        2, "", "give up a target after this many blocks in a row; 0 = never", low=0
+        2,
+        "",
+        "give up a target after this many blocks in a row; 0 = never",
+        low=0,
+        note=(
+            "a target the robot was blocked on this many times in a row counts as "
+            "unreachable for it (ours, see below; 0 = never)"
+        ),
     ),
 }
 """The parameters of the two rules, for every strategy that uses them."""

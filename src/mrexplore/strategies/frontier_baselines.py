@@ -11,19 +11,45 @@
     (shortest path over cells it knows to be free). No coordination: robots
     only share their maps.
 
-Parameters (both):
+Parameters (rendered from the classes' ``params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ===========  =======  =====  ====================================
-name                           paper        default  unit   meaning
-=============================  ===========  =======  =====  ====================================
-``min_frontier_size``          (Yamauchi:   1        cells  ignore frontier clusters (8-connected)
-                               "minimum                      smaller than this; falls back to all
-                               size")                        frontier cells if none is big enough
-``replan_every``               -            0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -            False           re-plan on any new cell
-``replan_on_target_explored``  -            True /          re-plan when the goal stops being a
-                                           False            frontier cell (nearest / random)
-=============================  ===========  =======  =====  ====================================
+``nearest-frontier``:
+
+.. params:begin nearest-frontier
+
+=============================  ======  =======  =====  =============================================
+name                           symbol  default  unit   meaning
+=============================  ======  =======  =====  =============================================
+``min_frontier_size``          -       1        cells  ignore 8-connected frontier clusters smaller
+                                                       than this (Yamauchi's minimum region size);
+                                                       all frontier cells are used if none is big
+                                                       enough
+``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
+``replan_on_target_explored``  -       true     -      re-plan when the goal is no longer a frontier
+                                                       cell
+=============================  ======  =======  =====  =============================================
+
+.. params:end
+
+``random-frontier``:
+
+.. params:begin random-frontier
+
+=============================  ======  =======  =====  =============================================
+name                           symbol  default  unit   meaning
+=============================  ======  =======  =====  =============================================
+``min_frontier_size``          -       1        cells  ignore 8-connected frontier clusters smaller
+                                                       than this (Yamauchi's minimum region size);
+                                                       all frontier cells are used if none is big
+                                                       enough
+``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
+``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
+                                                       cell
+=============================  ======  =======  =====  =============================================
+
+.. params:end
 
 Messages: none of their own; maps travel through the run's map-sharing mechanism.
 """
@@ -49,7 +75,17 @@ from mrexplore.strategies.base import (
 )
 
 _MIN_FRONTIER_SIZE: dict[str, Param] = {
-    "min_frontier_size": Param(1, "cells", "ignore frontier clusters smaller than this", low=1),
+    "min_frontier_size": Param(
+        1,
+        "cells",
+        "ignore frontier clusters smaller than this",
+        low=1,
+        note=(
+            "ignore 8-connected frontier clusters smaller than this (Yamauchi's "
+            "minimum region size); all frontier cells are used if none is big "
+            "enough"
+        ),
+    ),
 }
 
 

@@ -49,36 +49,42 @@ belief:
    a new goal for another reason, see the re-planning rules); then a new round
    re-decides every robot.
 
-Parameters:
+Parameters (rendered from ``Kme.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ======  =======  =====  =========================================
+.. params:begin kme
+
+=============================  ======  =======  =====  =============================================
 name                           symbol  default  unit   meaning
-=============================  ======  =======  =====  =========================================
-``v``                          v       0.0      cells  penalty rho2 for a frontier another robot
-                                                       chose; 0 = the map diagonal ``l``
-``fm_spacing``                 -       0.0      cells  least distance between two frontiers of
-                                                       FM; 0 = the sensor range (paper)
-``fm_order``                   -       nearest  -      order of the greedy FM choice: nearest
+=============================  ======  =======  =====  =============================================
+``v``                          v       0.0      cells  penalty rho2 for a frontier already chosen by
+                                                       another robot; 0 = `l`
+``fm_spacing``                 -       0.0      cells  least distance between two frontiers of FM
+                                                       (paper: the sensor range); 0 = sensor range
+``fm_order``                   -       nearest  -      order of the greedy FM choice: `nearest`
                                                        (path cost from the closest robot),
-                                                       clusters, raster
+                                                       `clusters` (cluster representatives by size,
+                                                       then raster), `raster`
 ``max_points``                 -       3000     cells  unknown cells K-Means runs on (random
-                                                       subsample; the rest join the nearest
-                                                       centroid)
-``kmeans_iterations``          -       20       -      most Lloyd iterations per round (stops
-                                                       earlier when the labels settle)
-``round_timeout``              -       0        ticks  the coordinator decides with the positions
-                                                       it has after this long; 0 = 2 x latency x
-                                                       hops + 1
-``request_timeout``            -       0        ticks  a robot re-sends its request when no goal
-                                                       came back; 0 = 2 x round_timeout + 2
-``coordinator_timeout``        -       0        ticks  a robot plans alone after waiting this
-                                                       long for a goal; 0 = 3 x request_timeout
-``block_limit``                -       2        -      give up a target after this many blocks
-                                                       on it in a row; 0 = never
-``replan_on_target_explored``  -       False    -      also start a round once a target is
-                                                       explored (default: on arrival, step 11)
-``replan_*``                   -                       see :data:`REPLAN_PARAMS`
-=============================  ======  =======  =====  =========================================
+                                                       subsample)
+``kmeans_iterations``          -       20       -      most Lloyd iterations per round (stops when
+                                                       labels settle)
+``round_timeout``              -       0        ticks  the coordinator decides with the positions it
+                                                       has after this; 0 = 2 x latency x hops + 1
+``request_timeout``            -       0        ticks  re-send a request that brought no target; 0 =
+                                                       2 x round_timeout + 2
+``coordinator_timeout``        -       0        ticks  a robot that waited this long for a goal it
+                                                       can follow plans alone (ours, see below); 0 =
+                                                       3 x `request_timeout`
+``block_limit``                -       2        -      a target the robot was blocked on this many
+                                                       times in a row counts as unreachable for it
+                                                       (ours, see below; 0 = never)
+``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
+``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
+                                                       cell
+=============================  ======  =======  =====  =============================================
+
+.. params:end
 
 ``l`` is the diagonal of the map, ``hypot(height, width)`` cells.
 
@@ -776,21 +782,60 @@ class Kme(CoordinatedWithFallback):
                 "penalty rho2 for a frontier chosen by another robot; 0 = l",
                 "v",
                 low=0,
+                note="penalty rho2 for a frontier already chosen by another robot; 0 = `l`",
             ),
             "fm_spacing": Param(
-                0.0, "cells", "least spacing of the frontiers in FM; 0 = sensor range", low=0
+                0.0,
+                "cells",
+                "least spacing of the frontiers in FM; 0 = sensor range",
+                low=0,
+                note=(
+                    "least distance between two frontiers of FM (paper: the sensor range); "
+                    "0 = sensor range"
+                ),
             ),
             "fm_order": Param(
-                "nearest", "", "greedy FM order: nearest | clusters | raster", choices=FM_ORDERS
+                "nearest",
+                "",
+                "greedy FM order: nearest | clusters | raster",
+                choices=FM_ORDERS,
+                note=(
+                    "order of the greedy FM choice: `nearest` (path cost from the closest "
+                    "robot), `clusters` (cluster representatives by size, then raster), "
+                    "`raster`"
+                ),
             ),
             "max_points": Param(
-                3000, "cells", "unknown cells K-Means is run on (random subsample)", low=1
+                3000,
+                "cells",
+                "unknown cells K-Means is run on (random subsample)",
+                low=1,
+                note="unknown cells K-Means runs on (random subsample)",
             ),
-            "kmeans_iterations": Param(20, "", "most Lloyd iterations of K-Means per round", low=1),
+            "kmeans_iterations": Param(
+                20,
+                "",
+                "most Lloyd iterations of K-Means per round",
+                low=1,
+                note="most Lloyd iterations per round (stops when labels settle)",
+            ),
             "round_timeout": Param(
-                0, "ticks", "decide with the reports at hand after this; 0 = auto", low=0
+                0,
+                "ticks",
+                "decide with the reports at hand after this; 0 = auto",
+                low=0,
+                note=(
+                    "the coordinator decides with the positions it has after this; 0 = 2 x "
+                    "latency x hops + 1"
+                ),
             ),
-            "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
+            "request_timeout": Param(
+                0,
+                "ticks",
+                "re-send a request after this; 0 = auto",
+                low=0,
+                note="re-send a request that brought no target; 0 = 2 x round_timeout + 2",
+            ),
             **FALLBACK_PARAMS,
         },
         # §IV.D step 11: "Robots move to their targets until one robot arrives at its

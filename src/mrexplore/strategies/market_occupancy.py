@@ -33,80 +33,124 @@ robot that hears the request computes its row over ``y`` and broadcasts it
 of every robot of its sub-network, or ``round_timeout`` ticks after it heard of
 the round; the matrix then holds the rows that arrived in time.
 
-Parameters:
+Parameters (rendered from ``MarketOccupancy.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ========  ========  ============  =============================
-name                           symbol    default   unit          meaning
-=============================  ========  ========  ============  =============================
-``lambda_u``                   lambda_u  0.1       cells / cell  weight of one unknown cell
-                                                                 in U (eq. 4), in cells of cost
-``lambda_f``                   lambda_f  0.0       cells         peak of F (eq. 5); 0 = r_f
-``r``                          r         0.0       cells         utility radius (eq. 4);
-                                                                 0 = the sensor range
-``r_f``                        r_f       0.0       cells         occupancy radius, 3 sigma
-                                                                 (eq. 5); 0 = 2 x sensor range
-``cost``                       C_ij      euclidean -             eq. (3): ``euclidean`` (the
-                                                                 paper); ``path``: shortest-path
-                                                                 length on the robot's map
-``frontier_detector``          -         grid      -             ``grid``: frontier cluster
-                                                                 representatives; ``rrt``: the
-                                                                 RRT detector (Umari 2017)
-``rrt_eta``                    eta       5.0       cells         RRT growth step of both trees;
-                                                                 0 = sensor range (Umari's
-                                                                 launch files: 1 m; 5 cells at
-                                                                 0.2 m per cell)
-``rrt_global_eta``             eta       0.0       cells         growth step of the global tree;
-                                                                 0 = ``rrt_eta`` (Umari: 1 m
-                                                                 with three robots, 15 m alone)
-``rrt_samples``                -         0         samples/tick  samples per tree per tick; 0 =
-                                                                 from ``rrt_sample_density``
-``rrt_sample_density``         -         1.0       samples/tick  samples per tree per tick per
-                                                   /footprint    sensor footprint (pi r^2) of
-                                                                 the map
-``rrt_vertex_spacing``         -         1.0       cells         a free RRT edge shorter than
-                                                                 this adds no vertex
-``rrt_burst``                  -         50        batches       extra RRT batches when a goal
-                                                                 is needed and no reachable
-                                                                 point is stored
-``rrt_clustering``             -         mean-     -             merge stored RRT points by
-                                         shift                   ``mean-shift`` (Umari's filter)
-                                                                 or ``greedy`` (earlier version)
-``rrt_bandwidth``              -         1.5       cells         mean-shift bandwidth (Umari:
-                                                                 0.3 m; 1.5 cells at 0.2 m)
-``rrt_cluster_radius``         -         0.0       cells         ``greedy``: merge stored RRT
-                                                                 points closer than this; 0 =
-                                                                 sensor range / 2
-``rrt_filter_radius``          -         2.5       cells         information-gain radius of the
-                                                                 RRT points' filter (Umari:
-                                                                 0.5 m); 0 = no filter
-``rrt_filter_min_gain``        -         5.0       cells         drop RRT points with fewer
-                                                                 unknown cells within
-                                                                 ``rrt_filter_radius`` (Umari:
-                                                                 0.2 m², 5 cells of 0.04 m²)
-``filter_radius``              -         0.0       cells         information-gain radius of the
-                                                                 frontier filter; 0 = no filter
-``filter_min_gain``            -         0.0       cells         drop frontier points with fewer
-                                                                 unknown cells within
-                                                                 ``filter_radius``
-``round_timeout``              -         0         ticks         decide with the rows at hand
-                                                                 after this; 0 = 2 x latency x
-                                                                 hops + 1
-``request_timeout``            -         0         ticks         re-send a request when a round
-                                                                 gave no goal; 0 = 2 x
-                                                                 round_timeout + 2
-``event_based``                -         True      -             rounds open on events (the
-                                                                 paper); False: every
-                                                                 ``replan_every`` ticks only
-                                                                 (time-triggered ablation)
-``idle_until_clock``           -         True      -             with ``event_based=false``, a
-                                                                 robot that needs a goal waits
-                                                                 for its clock; False: it also
-                                                                 opens a round then
-``replan_*``                   -                                 see :data:`REPLAN_PARAMS`
-                                                                 (``replan_on_target_explored``
-                                                                 is False here: an event is
-                                                                 reaching the goal)
-=============================  ========  ========  ============  =============================
+.. params:begin market-occupancy
+
+=============================  ========  ==========  ======================  =======================
+name                           symbol    default     unit                    meaning
+=============================  ========  ==========  ======================  =======================
+``lambda_u``                   lambda_u  0.1         cells/cell              weight of the utility
+                                                                             (eq. 4)
+``lambda_f``                   lambda_f  0.0         cells                   peak of the frontier
+                                                                             occupancy (eq. 5); 0 =
+                                                                             `r_f`
+``r``                          r         0.0         cells                   radius of the utility
+                                                                             disk (eq. 4); 0 =
+                                                                             sensor range
+``r_f``                        r_f       0.0         cells                   occupancy radius 3
+                                                                             sigma (eq. 5); 0 = 2 x
+                                                                             sensor range
+``cost``                       C_ij      euclidean   -                       eq. (3): Euclidean
+                                                                             distance (the paper);
+                                                                             `path`: shortest-path
+                                                                             length on the robot's
+                                                                             map
+``frontier_detector``          -         grid        -                       `grid` or `rrt`
+``rrt_eta``                    eta       5.0         cells                   RRT growth step of both
+                                                                             trees; Umari's launch
+                                                                             files: 1 m (5 cells at
+                                                                             0.2 m per cell); 0 =
+                                                                             sensor range, the
+                                                                             earlier default
+``rrt_global_eta``             eta       0.0         cells                   growth step of the
+                                                                             global tree; Umari: 1 m
+                                                                             with three robots on
+                                                                             the merged map (`three_
+                                                                             robots.launch`), 15 m
+                                                                             with one robot (75
+                                                                             cells); 0 = `rrt_eta`
+``rrt_samples``                -         0           samples/tick            RRT iterations per tree
+                                                                             per tick; 0 = from
+                                                                             `rrt_sample_density`;
+                                                                             the earlier default was
+                                                                             20
+``rrt_sample_density``         -         1.0         samples/tick/footprint  the budget:
+                                                                             `ceil(density H W / (pi
+                                                                             r^2))` samples per tree
+                                                                             per tick (Intel at 0.2
+                                                                             m: 46; office 120 x 80
+                                                                             with a 15-cell sensor:
+                                                                             14; 100 x 100 with 8
+                                                                             cells: 50)
+``rrt_vertex_spacing``         -         1.0         cells                   a free edge shorter
+                                                                             than this adds no
+                                                                             vertex
+``rrt_burst``                  -         50          batches                 extra RRT batches (one
+                                                                             tick's budget each)
+                                                                             when a goal is needed
+                                                                             and no reachable point
+                                                                             is stored
+``rrt_clustering``             -         mean-shift  -                       how stored RRT points
+                                                                             are merged: `mean-
+                                                                             shift` (Umari's filter)
+                                                                             or `greedy` (the
+                                                                             earlier version)
+``rrt_bandwidth``              -         1.5         cells                   mean-shift bandwidth;
+                                                                             Umari's filter: `MeanSh
+                                                                             ift(bandwidth=0.3)`,
+                                                                             0.3 m
+``rrt_cluster_radius``         -         0.0         cells                   `greedy`: stored RRT
+                                                                             points closer than this
+                                                                             are merged; 0 = sensor
+                                                                             range / 2
+``rrt_filter_radius``          -         2.5         cells                   RRT points: radius of
+                                                                             the information-gain
+                                                                             test (Umari:
+                                                                             `info_radius * 0.5` =
+                                                                             0.5 m); 0 = no test
+``rrt_filter_min_gain``        -         5.0         cells                   RRT points with fewer
+                                                                             unknown cells within
+                                                                             `rrt_filter_radius` are
+                                                                             dropped (Umari: 0.2 m²
+                                                                             = 5 cells of 0.04 m²)
+``filter_radius``              -         0.0         cells                   every detector's
+                                                                             points: radius of the
+                                                                             same test; 0 = no
+                                                                             filter
+``filter_min_gain``            -         0.0         cells                   every detector's points
+                                                                             with fewer unknown
+                                                                             cells within
+                                                                             `filter_radius` are
+                                                                             dropped
+``round_timeout``              -         0           ticks                   decide with the rows at
+                                                                             hand after this; 0 = 2
+                                                                             x latency x hops + 1
+``request_timeout``            -         0           ticks                   least time between two
+                                                                             requests of a robot; 0
+                                                                             = 2 x round_timeout + 2
+``event_based``                -         true        -                       rounds open on events
+                                                                             (goal reached, blocked,
+                                                                             no goal); `false`: only
+                                                                             every `replan_every`
+                                                                             ticks (time-triggered,
+                                                                             an ablation)
+``idle_until_clock``           -         true        -                       with
+                                                                             `event_based=false`, a
+                                                                             robot that needs a goal
+                                                                             waits for its clock;
+                                                                             `false`: it also opens
+                                                                             a round at once
+``replan_every``               -         0           ticks                   also re-plan every k
+                                                                             ticks (0 = never)
+``replan_on_new_info``         -         false       -                       re-plan whenever the
+                                                                             belief gained new cells
+``replan_on_target_explored``  -         false       -                       re-plan when the goal
+                                                                             is no longer a frontier
+                                                                             cell
+=============================  ========  ==========  ======================  =======================
+
+.. params:end
 
 Messages (sizes: header of :mod:`mrexplore.comm.bytes` plus the payload below):
 
@@ -417,29 +461,78 @@ class MarketOccupancy(FrontierStrategy):
     params: ClassVar[Mapping[str, Param]] = frontier_params(
         {
             "lambda_u": Param(
-                0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u", low=0
+                0.1,
+                "cells/cell",
+                "weight of one unknown cell in U (eq. 4)",
+                "lambda_u",
+                low=0,
+                note="weight of the utility (eq. 4)",
             ),
             "lambda_f": Param(
-                0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f", low=0
+                0.0,
+                "cells",
+                "peak of the occupancy F (eq. 5); 0 = r_f",
+                "lambda_f",
+                low=0,
+                note="peak of the frontier occupancy (eq. 5); 0 = `r_f`",
             ),
-            "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r", low=0),
+            "r": Param(
+                0.0,
+                "cells",
+                "utility radius (eq. 4); 0 = sensor range",
+                "r",
+                low=0,
+                note="radius of the utility disk (eq. 4); 0 = sensor range",
+            ),
             "r_f": Param(
                 0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
             ),
             "cost": Param(
-                "euclidean", "", "C_ij of eq. (3): euclidean | path", choices=("euclidean", "path")
+                "euclidean",
+                "",
+                "C_ij of eq. (3): euclidean | path",
+                choices=("euclidean", "path"),
+                note=(
+                    "eq. (3): Euclidean distance (the paper); `path`: shortest-path length "
+                    "on the robot's map"
+                ),
+                symbol="C_ij",
             ),
             "frontier_detector": Param(
-                "grid", "", "frontier points: grid | rrt", choices=DETECTORS
+                "grid", "", "frontier points: grid | rrt", choices=DETECTORS, note="`grid` or `rrt`"
             ),
             "rrt_eta": Param(
-                5.0, "cells", "RRT growth step (Umari: 1 m); 0 = sensor range", "eta", low=0
+                5.0,
+                "cells",
+                "RRT growth step (Umari: 1 m); 0 = sensor range",
+                "eta",
+                low=0,
+                note=(
+                    "RRT growth step of both trees; Umari's launch files: 1 m (5 cells at "
+                    "0.2 m per cell); 0 = sensor range, the earlier default"
+                ),
             ),
             "rrt_global_eta": Param(
-                0.0, "cells", "growth step of the global RRT; 0 = rrt_eta", "eta", low=0
+                0.0,
+                "cells",
+                "growth step of the global RRT; 0 = rrt_eta",
+                "eta",
+                low=0,
+                note=(
+                    "growth step of the global tree; Umari: 1 m with three robots on the "
+                    "merged map (`three_robots.launch`), 15 m with one robot (75 cells); 0 "
+                    "= `rrt_eta`"
+                ),
             ),
             "rrt_samples": Param(
-                0, "samples/tick", "RRT samples per tree per tick; 0 = rrt_sample_density", low=0
+                0,
+                "samples/tick",
+                "RRT samples per tree per tick; 0 = rrt_sample_density",
+                low=0,
+                note=(
+                    "RRT iterations per tree per tick; 0 = from `rrt_sample_density`; the "
+                    "earlier default was 20"
+                ),
             ),
             "rrt_sample_density": Param(
                 1.0,
@@ -447,46 +540,124 @@ class MarketOccupancy(FrontierStrategy):
                 "RRT samples per tree per tick per pi r^2 of the map",
                 low=0,
                 low_open=True,
+                note=(
+                    "the budget: `ceil(density H W / (pi r^2))` samples per tree per tick "
+                    "(Intel at 0.2 m: 46; office 120 x 80 with a 15-cell sensor: 14; 100 x "
+                    "100 with 8 cells: 50)"
+                ),
             ),
             "rrt_vertex_spacing": Param(
-                1.0, "cells", "a free RRT edge shorter than this adds no vertex", low=0
+                1.0,
+                "cells",
+                "a free RRT edge shorter than this adds no vertex",
+                low=0,
+                note="a free edge shorter than this adds no vertex",
             ),
             "rrt_burst": Param(
-                50, "batches", "extra RRT batches when a goal is needed and no point", low=0
+                50,
+                "batches",
+                "extra RRT batches when a goal is needed and no point",
+                low=0,
+                note=(
+                    "extra RRT batches (one tick's budget each) when a goal is needed and "
+                    "no reachable point is stored"
+                ),
             ),
             "rrt_clustering": Param(
-                "mean-shift", "", "merge RRT points: mean-shift | greedy", choices=CLUSTERINGS
+                "mean-shift",
+                "",
+                "merge RRT points: mean-shift | greedy",
+                choices=CLUSTERINGS,
+                note=(
+                    "how stored RRT points are merged: `mean-shift` (Umari's filter) or "
+                    "`greedy` (the earlier version)"
+                ),
             ),
             "rrt_bandwidth": Param(
-                1.5, "cells", "mean-shift bandwidth (Umari: 0.3 m)", low=0, low_open=True
+                1.5,
+                "cells",
+                "mean-shift bandwidth (Umari: 0.3 m)",
+                low=0,
+                low_open=True,
+                note=("mean-shift bandwidth; Umari's filter: `MeanShift(bandwidth=0.3)`, 0.3 m"),
             ),
             "rrt_cluster_radius": Param(
-                0.0, "cells", "greedy: merge RRT points closer; 0 = sensor range/2", low=0
+                0.0,
+                "cells",
+                "greedy: merge RRT points closer; 0 = sensor range/2",
+                low=0,
+                note=(
+                    "`greedy`: stored RRT points closer than this are merged; 0 = sensor range / 2"
+                ),
             ),
             "rrt_filter_radius": Param(
-                2.5, "cells", "RRT points: information-gain radius (Umari: 0.5 m); 0 = none", low=0
+                2.5,
+                "cells",
+                "RRT points: information-gain radius (Umari: 0.5 m); 0 = none",
+                low=0,
+                note=(
+                    "RRT points: radius of the information-gain test (Umari: `info_radius * "
+                    "0.5` = 0.5 m); 0 = no test"
+                ),
             ),
             "rrt_filter_min_gain": Param(
                 5.0,
                 "cells",
                 "RRT points: drop those with fewer unknown cells (Umari: 0.2 m2)",
                 low=0,
+                note=(
+                    "RRT points with fewer unknown cells within `rrt_filter_radius` are "
+                    "dropped (Umari: 0.2 m² = 5 cells of 0.04 m²)"
+                ),
             ),
             "filter_radius": Param(
-                0.0, "cells", "information-gain radius of the frontier filter; 0 = none", low=0
+                0.0,
+                "cells",
+                "information-gain radius of the frontier filter; 0 = none",
+                low=0,
+                note="every detector's points: radius of the same test; 0 = no filter",
             ),
             "filter_min_gain": Param(
-                0.0, "cells", "drop frontier points with fewer unknown cells within it", low=0
+                0.0,
+                "cells",
+                "drop frontier points with fewer unknown cells within it",
+                low=0,
+                note=(
+                    "every detector's points with fewer unknown cells within "
+                    "`filter_radius` are dropped"
+                ),
             ),
             "round_timeout": Param(
-                0, "ticks", "decide with the rows at hand after this; 0 = auto", low=0
+                0,
+                "ticks",
+                "decide with the rows at hand after this; 0 = auto",
+                low=0,
+                note="decide with the rows at hand after this; 0 = 2 x latency x hops + 1",
             ),
-            "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
+            "request_timeout": Param(
+                0,
+                "ticks",
+                "re-send a request after this; 0 = auto",
+                low=0,
+                note="least time between two requests of a robot; 0 = 2 x round_timeout + 2",
+            ),
             "event_based": Param(
-                True, "", "rounds open on events (goal reached); false: every replan_every ticks"
+                True,
+                "",
+                "rounds open on events (goal reached); false: every replan_every ticks",
+                note=(
+                    "rounds open on events (goal reached, blocked, no goal); `false`: only "
+                    "every `replan_every` ticks (time-triggered, an ablation)"
+                ),
             ),
             "idle_until_clock": Param(
-                True, "", "with event_based=false, a robot needing a goal waits for its clock"
+                True,
+                "",
+                "with event_based=false, a robot needing a goal waits for its clock",
+                note=(
+                    "with `event_based=false`, a robot that needs a goal waits for its "
+                    "clock; `false`: it also opens a round at once"
+                ),
             ),
         },
         replan_on_target_explored=False,

@@ -19,25 +19,29 @@ Algorithm 1, per robot, whenever it needs a new target:
 7. ``t = argmax_t U_t - beta * V_t``, ``V_t`` the cost of reaching t;
 8. broadcast t (a target point transmission, ``TPT``).
 
-Parameters:
+Parameters (rendered from ``MeierPolygon.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ==========  =======  =====  ======================================
-name                           symbol      default  unit   meaning
-=============================  ==========  =======  =====  ======================================
-``beta``                       beta        1.0      -      weight of cost against utility
-``max_range``                  max_range   0.0      cells  radius of P(d); 0 = sensor range
-``normalize_cost``             -           True     -      scale V to [0, 1] by the largest
-                                                           finite cost (as in ``burgard``)
-``respect_priority``           -           True     -      only targets of robots with a lower
-                                                           id (higher priority) discount
-``visibility_discount``        -           True     -      discount only in the visibility area
-                                                           (line of sight) of a target; False:
-                                                           every target within max_range
-``replan_on_target_explored``  -           False    -      also choose anew once the target is
-                                                           explored (default: on arrival, when
-                                                           Algorithm 1 needs a new target)
-``replan_*``                   -                           see :data:`REPLAN_PARAMS`
-=============================  ==========  =======  =====  ======================================
+.. params:begin meier-polygon
+
+=============================  =========  =======  =====  ==========================================
+name                           symbol     default  unit   meaning
+=============================  =========  =======  =====  ==========================================
+``beta``                       beta       1.0      -      weight of cost against utility
+``max_range``                  max_range  0.0      cells  radius of P(d); 0 = sensor range
+``normalize_cost``             -          true     -      scale each robot's costs to [0, 1]
+``visibility_discount``        -          true     -      discount only the targets in line of sight
+                                                          of a goal (its visibility area); false:
+                                                          every target within `max_range`
+``respect_priority``           -          true     -      only targets of robots with a lower id
+                                                          discount
+``replan_every``               -          0        ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -          false    -      re-plan whenever the belief gained new
+                                                          cells
+``replan_on_target_explored``  -          false    -      re-plan when the goal is no longer a
+                                                          frontier cell
+=============================  =========  =======  =====  ==========================================
+
+.. params:end
 
 Messages: ``TPT`` (target point transmission), broadcast: the target as one
 polygon point (x int32, y int32, id uint32 = 12 bytes) plus the header.
@@ -83,7 +87,12 @@ class MeierPolygon(FrontierStrategy):
     params: ClassVar[Mapping[str, Param]] = frontier_params(
         {
             **DISCOUNT_PARAMS,
-            "respect_priority": Param(True, "", "only lower ids' targets discount"),
+            "respect_priority": Param(
+                True,
+                "",
+                "only lower ids' targets discount",
+                note="only targets of robots with a lower id discount",
+            ),
         },
         # Algorithm 1 runs "whenever a robot selects a new target location": when it
         # reached its target (or cannot reach it), not when the target got explored.

@@ -38,33 +38,43 @@ with the winner's target known and bid again. §3.4: a robot that finishes
 sensing when the best current session began more than ``T_win`` ago (less than
 ``T_grace`` before it closes) stays out of it and waits for the next one.
 
-Parameters:
+Parameters (rendered from ``ShengBidding.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ======  =======  ======  ===================================
-name                           symbol  default  unit    meaning
-=============================  ======  =======  ======  ===================================
-``w1``                         ω1      1.0      1/cell  weight of the information gain I_i
-``w2``                         ω2      1.0      1/cell  weight of the travel distance D_i
-``w3``                         ω3      1.5      -       weight of the nearness lambda_i
-                                                        (0 = the paper's "without nearness")
-``alpha``                      α       0.5      -       fading factor of eq. (1), in [0, 1]
-                                                        (the paper gives no value)
-``eq2_units``                  -       cells    -       units of eq. (2): ``cells``,
-                                                        ``raw`` or ``unit-free`` (below)
-``nearness_over``              -       subnet.  -       robots of eq. (1): ``subnetwork``
-                                                        or ``known`` (all last heard of)
-``comm_range``                 r_c     0        cells   communication range in eq. (1);
-                                                        0 = the run's --comm-range, or
-                                                        the paper's 16 when unlimited
-``bid_time``                   t_bid   1        ticks   bidding time (paper: 1.5 s); at
-                                                        least T_grace is used
-``session_floor``              -       grace    -       least t_bid: ``grace`` (T_grace)
-                                                        or ``delay`` (t_d, T_win may be -1)
-``declare_timeout``            -       0        ticks   longest wait past t_bid for a
-                                                        winner; 0 = t_bid + 2 t_d
-``replan_on_target_explored``  -       False    -       stop travelling and bid again when
-                                                        the target stops being a frontier
-=============================  ======  =======  ======  ===================================
+.. params:begin sheng-bidding
+
+=============================  ======  ==========  ======  =========================================
+name                           symbol  default     unit    meaning
+=============================  ======  ==========  ======  =========================================
+``w1``                         ω1      1.0         1/cell  weight of the information gain `I_i` (§5)
+``w2``                         ω2      1.0         1/cell  weight of the travel distance `D_i` (§5)
+``w3``                         ω3      1.5         -       weight of the nearness `lambda_i` (§5;
+                                                           `0` = "without nearness")
+``alpha``                      α       0.5         -       fading factor of eq. (1), in [0, 1]; the
+                                                           paper says only "positive, smaller than
+                                                           1"
+``nearness_over``              -       subnetwork  -       the robots eq. (1) measures to: the `n_k`
+                                                           of the sub-network, or `known`, every
+                                                           robot last heard of (Fig. 2's example)
+``eq2_units``                  -       cells       -       units of eq. (2)'s terms: `cells`
+                                                           (`lambda_i` in units of `r_c` cells),
+                                                           `raw` (the literal sum) or `unit-free`
+                                                           (see Interpretations)
+``comm_range``                 r_c     0.0         cells   communication range in eq. (1); 0 = the
+                                                           run's `--comm-range`, or 16 (section 5)
+                                                           when unlimited; `inf` makes every term 1:
+                                                           no pull
+``bid_time``                   t_bid   1           ticks   bidding time (paper: 1.5 s); the session
+                                                           lasts `max(bid_time, T_grace)`
+``session_floor``              -       grace       -       the least `t_bid`: `grace` (`T_grace`, so
+                                                           `T_win >= 0`) or `delay` (`t_d`, the
+                                                           earlier reading; `T_win` can be -1)
+``declare_timeout``            -       0           ticks   longest wait past `t_bid` for a winner's
+                                                           declaration; 0 = `t_bid + 2 t_d`
+``replan_on_target_explored``  -       false       -       stop and bid again when the target is no
+                                                           longer a frontier cell
+=============================  ======  ==========  ======  =========================================
+
+.. params:end
 
 Time windows (§3.4, Fig. 6), from the sub-network at the start of each session
 (:func:`session_timing`): ``t_d = comm_latency x hop diameter`` of the
@@ -402,18 +412,61 @@ class ShengBidding(Strategy):
     )
     default_sharing: ClassVar[str] = "sheng-sync"
     params: ClassVar[Mapping[str, Param]] = {
-        "w1": Param(1.0, "1/cell", "weight of the information gain I_i", "ω1", low=0),
-        "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2", low=0),
-        "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3", low=0),
-        "alpha": Param(0.5, "", "fading factor of eq. (1)", "α", low=0, high=1),
+        "w1": Param(
+            1.0,
+            "1/cell",
+            "weight of the information gain I_i",
+            "ω1",
+            low=0,
+            note="weight of the information gain `I_i` (§5)",
+        ),
+        "w2": Param(
+            1.0,
+            "1/cell",
+            "weight of the travel distance D_i",
+            "ω2",
+            low=0,
+            note="weight of the travel distance `D_i` (§5)",
+        ),
+        "w3": Param(
+            1.5,
+            "",
+            "weight of the nearness measure lambda_i",
+            "ω3",
+            low=0,
+            note='weight of the nearness `lambda_i` (§5; `0` = "without nearness")',
+        ),
+        "alpha": Param(
+            0.5,
+            "",
+            "fading factor of eq. (1)",
+            "α",
+            low=0,
+            high=1,
+            note=(
+                'fading factor of eq. (1), in [0, 1]; the paper says only "positive, '
+                'smaller than 1"'
+            ),
+        ),
         "nearness_over": Param(
             "subnetwork",
             "",
             "robots eq. (1) measures to: subnetwork (its n_k) or known (all last heard of)",
             choices=("subnetwork", "known"),
+            note=(
+                "the robots eq. (1) measures to: the `n_k` of the sub-network, or "
+                "`known`, every robot last heard of (Fig. 2's example)"
+            ),
         ),
         "eq2_units": Param(
-            "cells", "", "units of eq. (2)'s terms: cells, raw or unit-free", choices=EQ2_UNITS
+            "cells",
+            "",
+            "units of eq. (2)'s terms: cells, raw or unit-free",
+            choices=EQ2_UNITS,
+            note=(
+                "units of eq. (2)'s terms: `cells` (`lambda_i` in units of `r_c` "
+                "cells), `raw` (the literal sum) or `unit-free` (see Interpretations)"
+            ),
         ),
         "comm_range": Param(
             0.0,
@@ -421,16 +474,35 @@ class ShengBidding(Strategy):
             "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)",
             "r_c",
             low=0,
+            note=(
+                "communication range in eq. (1); 0 = the run's `--comm-range`, or 16 "
+                "(section 5) when unlimited; `inf` makes every term 1: no pull"
+            ),
         ),
-        "bid_time": Param(1, "ticks", "bidding time (at least T_grace is used)", "t_bid", low=1),
+        "bid_time": Param(
+            1,
+            "ticks",
+            "bidding time (at least T_grace is used)",
+            "t_bid",
+            low=1,
+            note=("bidding time (paper: 1.5 s); the session lasts `max(bid_time, T_grace)`"),
+        ),
         "session_floor": Param(
             "grace",
             "",
             "least t_bid: grace (T_grace, so T_win >= 0) or delay (t_d)",
             choices=("grace", "delay"),
+            note=(
+                "the least `t_bid`: `grace` (`T_grace`, so `T_win >= 0`) or `delay` "
+                "(`t_d`, the earlier reading; `T_win` can be -1)"
+            ),
         ),
         "declare_timeout": Param(
-            0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d", low=0
+            0,
+            "ticks",
+            "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d",
+            low=0,
+            note=("longest wait past `t_bid` for a winner's declaration; 0 = `t_bid + 2 t_d`"),
         ),
         "replan_on_target_explored": Param(
             False, "", "stop and bid again when the target is no longer a frontier cell"

@@ -38,23 +38,29 @@ The method, step by step (``F`` = frontier cells, ``R`` = sensor range in cells)
 3. The coordinator sends each robot its goal; the robot plans a path to it on
    its own belief.
 
-Parameters:
+Parameters (rendered from ``Simmons.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ======  =======  =====  =========================================
+.. params:begin simmons
+
+=============================  ======  =======  =====  =============================================
 name                           symbol  default  unit   meaning
-=============================  ======  =======  =====  =========================================
-``cost_weight``                w       4.0      -      weight of the travel cost in the bid
-                                                       ``I - w C`` (gain and cost both in cells;
-                                                       the paper gives none, see below)
+=============================  ======  =======  =====  =============================================
+``cost_weight``                w       4.0      -      weight of the travel cost in `I - w C` (both
+                                                       in cells)
 ``bids_per_robot``             k       5        -      bids a robot sends per request
-``bid_separation``             -       0.0      cells  least Euclidean distance between two bids
-                                                       of one robot; 0 = the sensor range ``R``
-``line_of_sight``              -       False    -      count only unknown cells in line of sight
-                                                       (in the belief) in ``I`` and ``O``
-``request_timeout``            -       5        ticks  resend bids if no assignment came back
-                                                       (at least ``2 x latency + 1``)
-``replan_*``                   -                       see :data:`REPLAN_PARAMS`
-=============================  ======  =======  =====  =========================================
+``bid_separation``             -       0.0      cells  least Euclidean distance between two bids of
+                                                       one robot; 0 = `R`
+``line_of_sight``              -       false    -      count only unknown cells in line of sight (in
+                                                       the belief) in `I` and `O`
+``request_timeout``            -       5        ticks  resend bids if no assignment came back (at
+                                                       least `2 x latency + 1`)
+``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
+``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
+``replan_on_target_explored``  -       true     -      re-plan when the goal is no longer a frontier
+                                                       cell
+=============================  ======  =======  =====  =============================================
+
+.. params:end
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`):
 
@@ -275,13 +281,35 @@ class Simmons(CoordinatedStrategy):
     citation = "R. Simmons et al., Coordination for multi-robot exploration and mapping, AAAI 2000"
     params: ClassVar[Mapping[str, Param]] = frontier_params(
         {
-            "cost_weight": Param(4.0, "", "weight w of travel cost in the bid I - w C", "w", low=0),
+            "cost_weight": Param(
+                4.0,
+                "",
+                "weight w of travel cost in the bid I - w C",
+                "w",
+                low=0,
+                note="weight of the travel cost in `I - w C` (both in cells)",
+            ),
             "bids_per_robot": Param(5, "", "bids a robot sends per request", "k", low=1),
             "bid_separation": Param(
-                0.0, "cells", "least distance between two bids of a robot; 0 = sensor range", low=0
+                0.0,
+                "cells",
+                "least distance between two bids of a robot; 0 = sensor range",
+                low=0,
+                note="least Euclidean distance between two bids of one robot; 0 = `R`",
             ),
-            "line_of_sight": Param(False, "", "count only unknown cells in line of sight"),
-            "request_timeout": Param(5, "ticks", "resend bids after this many ticks", low=1),
+            "line_of_sight": Param(
+                False,
+                "",
+                "count only unknown cells in line of sight",
+                note=("count only unknown cells in line of sight (in the belief) in `I` and `O`"),
+            ),
+            "request_timeout": Param(
+                5,
+                "ticks",
+                "resend bids after this many ticks",
+                low=1,
+                note="resend bids if no assignment came back (at least `2 x latency + 1`)",
+            ),
         }
     )
 

@@ -13,13 +13,31 @@ from mrexplore.sensing import visible_cells_flat
 from mrexplore.strategies.base import Cell, Param
 
 DISCOUNT_PARAMS: dict[str, Param] = {
-    "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
+    "beta": Param(
+        1.0,
+        "",
+        "weight of travel cost against utility",
+        "beta",
+        low=0,
+        note="weight of cost against utility",
+    ),
     "max_range": Param(
-        0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range", low=0
+        0.0,
+        "cells",
+        "discount radius of P(d); 0 = sensor range",
+        "max_range",
+        low=0,
+        note="radius of P(d); 0 = sensor range",
     ),
     "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
     "visibility_discount": Param(
-        True, "", "discount only targets in line of sight of a goal (its visibility area)"
+        True,
+        "",
+        "discount only targets in line of sight of a goal (its visibility area)",
+        note=(
+            "discount only the targets in line of sight of a goal (its visibility "
+            "area); false: every target within `max_range`"
+        ),
     ),
 }
 """The parameters of utility discounting: the trade-off ``U - beta V``, the radius of

@@ -60,61 +60,84 @@ What is implemented (paper section -> code):
   re-planning rules of :data:`REPLAN_PARAMS` (re-planning when the frontier has
   been explored is off by default: the paper re-plans on arrival).
 
-Parameters:
+Parameters (rendered from ``VazquezNetwork.params`` by :mod:`mrexplore.strategies.doc`):
 
-=========================  ======  ==========  =====  ==========================================
-name                       symbol  default     unit   meaning
-=========================  ======  ==========  =====  ==========================================
-``comm_range``             d3      0           cells  communication range; 0 = the run's
-                                                      ``--comm-range`` in cells; inf = the
-                                                      network cannot break, no constraints
-``d2_fraction``            d2      0.9         -      preventive constraint ``d2 = 0.9 d3``
-``d1_sensor_diameters``    d1      1.5         -      collision constraint in sensor diameters,
-                                                      ``d1 = 1.5 x 2 R``
-``d1_max_fraction``        -       0.75        -      cap ``d1 <= 0.75 d2`` (comfort zone never
-                                                      empty; see interpretations)
-``cost_weight``            w       1.0         -      weight of the travel cost in ``U - w C``
-``utility_unit``           -       ticks       -      ``U`` as ``U / (2R + 1)`` ticks, or cells
-``discount_around``        -       both        -      ``U`` leaves out cells near other robots'
-                                                      destinations, positions, or both
-``line_of_sight``          -       False       -      count only unknown cells in line of sight
-                                                      (in the belief) in ``U``
-``position_period``        k       2           ticks  broadcast the position every k ticks
-``constrain_bridges``      -       stretched   -      bridge neighbours constrain when farther
-                                                      than d2 (stretched) or always
-``constraint_memory``      -       0           ticks  keep a neighbour constraining after the
-                                                      pair is back within d2 (always: after
-                                                      its link stopped being a bridge); 0 =
-                                                      ``memory_ranges x d3 / speed``, >= 10
-``memory_ranges``          -       1.0         d3     the default memory in ranges of travel
-``zone_between_pair``      -       True        -      a stretched pair searches within d2 of
-                                                      both robots ("between the pair")
-``no_frontier_rule``       -       approach    -      no frontier in the zone: approach the
-                                                      stretched neighbour (else the lowest id
-                                                      explores, the others go with it), or
-                                                      convoy (by hops to the root)
-``follow_distance``        -       2.0         cells  how close a convoy follower, or a robot
-                                                      returning to a lost neighbour, gets
-``reconnect_timeout``      -       0           ticks  give up going back to a lost neighbour;
-                                                      0 = ``4 d3 / speed`` ticks, at least 50
-``abort_memory``           -       0           ticks  leave a frontier given up for a
-                                                      constraint to the others; 0 = as above
-``zone_includes_targets``  -       False       -      also keep the destination in the comfort
-                                                      zone of each neighbour's destination
-``resolve_conflicts``      -       True        -      re-plan when a lower id announces a
-                                                      destination within ``R`` of one's own
-``replan_on_behaviour``    -       reroute-    -      on a change into or out of avoid-
-                                   collision              collision re-route to the goal (§3.3.2),
-                                                      re-plan on any other change of behaviour;
-                                                      ``any``: re-plan on every change;
-                                                      ``connectivity``: only into and out of
-                                                      achieve-connectivity
-``broken_bridge_frontier`` -       lower-      -      a bridge link broke: both go back, the
-                                   keeps                  lower id keeps its frontier to resume
-                                                      it; or ``both-leave`` theirs to others
-``replan_*``               -                          see :data:`REPLAN_PARAMS`;
-                                                      ``replan_on_target_explored`` False
-=========================  ======  ==========  =====  ==========================================
+.. params:begin vazquez-network
+
+=============================  ======  =================  =====  ===================================
+name                           symbol  default            unit   meaning
+=============================  ======  =================  =====  ===================================
+``comm_range``                 d3      0.0                cells  communication range; 0 = the run's
+                                                                 `--comm-range` (cells); inf = no
+                                                                 constraints
+``d2_fraction``                d2      0.9                -      `d2 = 0.9 d3` (paper)
+``d1_sensor_diameters``        d1      1.5                -      `d1 = 1.5 x 2 R` (paper: 3/2 of the
+                                                                 sensor diameter)
+``d1_max_fraction``            -       0.75               -      cap `d1 <= 0.75 d2` so the comfort
+                                                                 zone is never empty
+``cost_weight``                w       1.0                -      weight of travel cost in `U - w C`
+``line_of_sight``              -       false              -      count only unknown cells in line of
+                                                                 sight (in the belief) in `U`
+``position_period``            k       2                  ticks  broadcast the position every k
+                                                                 ticks
+``follow_distance``            -       2.0                cells  how close a `convoy` follower, or a
+                                                                 robot returning to a lost
+                                                                 neighbour, gets
+``reconnect_timeout``          -       0                  ticks  give up going back to a lost
+                                                                 neighbour; 0 = `4 d3 / speed`, at
+                                                                 least 50
+``zone_includes_targets``      -       false              -      also require the comfort zone
+                                                                 around each constraining
+                                                                 neighbour's announced destination
+                                                                 (ours)
+``constraint_memory``          -       0                  ticks  keep a neighbour constraining after
+                                                                 the pair is back within `d2`
+                                                                 (`always`: after its link stopped
+                                                                 being a bridge); 0 = `memory_ranges
+                                                                 x d3 / speed`, at least 10
+``memory_ranges``              -       1.0                d3     the default memory in ranges of
+                                                                 travel
+``resolve_conflicts``          -       true               -      re-plan when a lower id announces a
+                                                                 destination within `R` of one's own
+``abort_memory``               -       0                  ticks  leave a frontier given up for a
+                                                                 constraint to the others; 0 = `4 d3
+                                                                 / speed`, at least 50
+``constrain_bridges``          -       stretched          -      a bridge neighbour constrains when
+                                                                 beyond `d2` (`stretched`) or
+                                                                 `always`
+``broken_bridge_frontier``     -       lower-keeps        -      a bridge link broke: both go back,
+                                                                 the lower id keeps its frontier and
+                                                                 resumes it once reconnected, the
+                                                                 higher leaves its own to the
+                                                                 others; `both-leave`: both leave
+                                                                 theirs
+``zone_between_pair``          -       true               -      a stretched pair searches within
+                                                                 `d2` of both robots
+``no_frontier_rule``           -       approach           -      no frontier in the zone: `approach`
+                                                                 the stretched neighbour (else the
+                                                                 end nearer the root explores and
+                                                                 the others go with it) or `convoy`
+``discount_around``            -       both               -      `U` leaves out cells near other
+                                                                 robots' `destinations`,
+                                                                 `positions`, or `both`
+``utility_unit``               -       ticks              -      `U` as `U / (2R + 1)` ticks of
+                                                                 sensing, or `cells`
+``replan_on_behaviour``        -       reroute-collision  -      re-plan on any change of behaviour
+                                                                 but into or out of avoid-collision,
+                                                                 which re-routes to the current goal
+                                                                 (§3.3.2); `any`: a new plan on
+                                                                 every change; `connectivity`: only
+                                                                 into and out of achieve-
+                                                                 connectivity
+``replan_every``               -       0                  ticks  also re-plan every k ticks (0 =
+                                                                 never)
+``replan_on_new_info``         -       false              -      re-plan whenever the belief gained
+                                                                 new cells
+``replan_on_target_explored``  -       false              -      re-plan when the goal is no longer
+                                                                 a frontier cell
+=============================  ======  =================  =====  ===================================
+
+.. params:end
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`, each a broadcast to the sub-network):
 
@@ -655,6 +678,9 @@ class VazquezNetwork(Strategy):
             "d3",
             low=0,
             finite=False,
+            note=(
+                "communication range; 0 = the run's `--comm-range` (cells); inf = no constraints"
+            ),
         ),
         "d2_fraction": Param(
             0.9,
@@ -664,22 +690,61 @@ class VazquezNetwork(Strategy):
             low=0,
             high=1,
             low_open=True,
+            note="`d2 = 0.9 d3` (paper)",
         ),
         "d1_sensor_diameters": Param(
-            1.5, "", "collision constraint d1 in sensor diameters", "d1", low=0
+            1.5,
+            "",
+            "collision constraint d1 in sensor diameters",
+            "d1",
+            low=0,
+            note="`d1 = 1.5 x 2 R` (paper: 3/2 of the sensor diameter)",
         ),
-        "d1_max_fraction": Param(0.75, "", "cap d1 at this fraction of d2", low=0, high=1),
-        "cost_weight": Param(1.0, "", "weight w of travel cost in U - w C", "w", low=0),
-        "line_of_sight": Param(False, "", "count only unknown cells in line of sight in U"),
+        "d1_max_fraction": Param(
+            0.75,
+            "",
+            "cap d1 at this fraction of d2",
+            low=0,
+            high=1,
+            note="cap `d1 <= 0.75 d2` so the comfort zone is never empty",
+        ),
+        "cost_weight": Param(
+            1.0,
+            "",
+            "weight w of travel cost in U - w C",
+            "w",
+            low=0,
+            note="weight of travel cost in `U - w C`",
+        ),
+        "line_of_sight": Param(
+            False,
+            "",
+            "count only unknown cells in line of sight in U",
+            note="count only unknown cells in line of sight (in the belief) in `U`",
+        ),
         "position_period": Param(2, "ticks", "broadcast the position every k ticks", "k", low=1),
         "follow_distance": Param(
-            2.0, "cells", "how close a robot moving towards a neighbour gets", low=0
+            2.0,
+            "cells",
+            "how close a robot moving towards a neighbour gets",
+            low=0,
+            note=("how close a `convoy` follower, or a robot returning to a lost neighbour, gets"),
         ),
         "reconnect_timeout": Param(
-            0, "ticks", "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)", low=0
+            0,
+            "ticks",
+            "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)",
+            low=0,
+            note=("give up going back to a lost neighbour; 0 = `4 d3 / speed`, at least 50"),
         ),
         "zone_includes_targets": Param(
-            False, "", "keep the zone around bridge neighbours' destinations too (ours)"
+            False,
+            "",
+            "keep the zone around bridge neighbours' destinations too (ours)",
+            note=(
+                "also require the comfort zone around each constraining neighbour's "
+                "announced destination (ours)"
+            ),
         ),
         "constraint_memory": Param(
             0,
@@ -688,12 +753,24 @@ class VazquezNetwork(Strategy):
             "constrain_bridges=always, after its link stops being a bridge); 0 = "
             "memory_ranges x d3 of travel (at least 10 ticks)",
             low=0,
+            note=(
+                "keep a neighbour constraining after the pair is back within `d2` "
+                "(`always`: after its link stopped being a bridge); 0 = `memory_ranges "
+                "x d3 / speed`, at least 10"
+            ),
         ),
         "memory_ranges": Param(
-            1.0, "d3", "default constraint_memory in ranges of travel (d3 / speed ticks)", low=0
+            1.0,
+            "d3",
+            "default constraint_memory in ranges of travel (d3 / speed ticks)",
+            low=0,
+            note="the default memory in ranges of travel",
         ),
         "resolve_conflicts": Param(
-            True, "", "re-plan when a lower id announces a destination within R of ours"
+            True,
+            "",
+            "re-plan when a lower id announces a destination within R of ours",
+            note=("re-plan when a lower id announces a destination within `R` of one's own"),
         ),
         "abort_memory": Param(
             0,
@@ -701,6 +778,10 @@ class VazquezNetwork(Strategy):
             "leave a frontier given up for a constraint to the others this long; 0 = 4 d3 "
             "of travel (at least 50)",
             low=0,
+            note=(
+                "leave a frontier given up for a constraint to the others; 0 = `4 d3 / "
+                "speed`, at least 50"
+            ),
         ),
         "constrain_bridges": Param(
             "stretched",
@@ -708,6 +789,7 @@ class VazquezNetwork(Strategy):
             "which bridge links constrain: stretched (signal below threshold, beyond d2, "
             "§3.1) or always (every bridge)",
             choices=("stretched", "always"),
+            note=("a bridge neighbour constrains when beyond `d2` (`stretched`) or `always`"),
         ),
         "broken_bridge_frontier": Param(
             "lower-keeps",
@@ -715,12 +797,18 @@ class VazquezNetwork(Strategy):
             "a broken bridge link: both go back, the lower id keeping its frontier to "
             "resume (lower-keeps), or both leave theirs to the others (both-leave)",
             choices=("lower-keeps", "both-leave"),
+            note=(
+                "a bridge link broke: both go back, the lower id keeps its frontier and "
+                "resumes it once reconnected, the higher leaves its own to the others; "
+                "`both-leave`: both leave theirs"
+            ),
         ),
         "zone_between_pair": Param(
             True,
             "",
             "a stretched pair searches the comfort zone between the two (within d2 of "
             "both, §3.3.1), not around the other robot only",
+            note="a stretched pair searches within `d2` of both robots",
         ),
         "no_frontier_rule": Param(
             "approach",
@@ -728,18 +816,24 @@ class VazquezNetwork(Strategy):
             "no frontier in the comfort zone: approach (move towards the stretched "
             "partner, §3.3.1) or convoy (lead / follow / hold by distance to the root)",
             choices=("approach", "convoy"),
+            note=(
+                "no frontier in the zone: `approach` the stretched neighbour (else the "
+                "end nearer the root explores and the others go with it) or `convoy`"
+            ),
         ),
         "discount_around": Param(
             "both",
             "",
             "U leaves out cells within R of other robots' destinations, positions or both",
             choices=("both", "destinations", "positions"),
+            note=("`U` leaves out cells near other robots' `destinations`, `positions`, or `both`"),
         ),
         "utility_unit": Param(
             "ticks",
             "",
             "U in ticks of sensing, U / (2R + 1) (ticks, like C) or in cells",
             choices=("ticks", "cells"),
+            note="`U` as `U / (2R + 1)` ticks of sensing, or `cells`",
         ),
         "replan_on_behaviour": Param(
             "reroute-collision",
@@ -748,6 +842,12 @@ class VazquezNetwork(Strategy):
             "avoid-collision, which re-routes to the goal (§3.3.2), on any change (Fig. 2), "
             "or only into and out of achieve-connectivity",
             choices=("any", "reroute-collision", "connectivity"),
+            note=(
+                "re-plan on any change of behaviour but into or out of avoid-collision, "
+                "which re-routes to the current goal (§3.3.2); `any`: a new plan on "
+                "every change; `connectivity`: only into and out of "
+                "achieve-connectivity"
+            ),
         ),
         **REPLAN_PARAMS,
         # "If the robot arrives at the current frontier the exploration algorithm its

@@ -51,24 +51,28 @@ cells over cells the robot knows to be free):
 6. **Execution.** The robot drives to the first goal of its tour; goals that are
    reached or no longer frontier cells (explored, by anyone) are dropped.
 
-Parameters:
+Parameters (rendered from ``ZlotMarket.params`` by :mod:`mrexplore.strategies.doc`):
 
-=====================  ======  =======  =====  ==============================================
+.. params:begin zlot-market
+
+=====================  ======  =======  =====  =====================================================
 name                   symbol  default  unit   meaning
-=====================  ======  =======  =====  ==============================================
-``revenue_weight``     w_r     1.0      -      revenue per unknown cell expected to be seen,
-                                               in cells of travel
+=====================  ======  =======  =====  =====================================================
+``revenue_weight``     w_r     1.0      -      revenue per unknown cell expected to be seen, in
+                                               cells of travel
 ``goals_per_round``    -       3        -      goal points drawn per generation
-``goal_spacing``       -       0.0      cells  least distance between goal points;
-                                               0 = the sensor range ``R``
-``generation_radius``  -       1.0      cells  draw goals at most this far (path) beyond the
-                                               nearest unclaimed candidate
-``min_tour``           -       1        -      generate goals when the tour is shorter
-``auction_ticks``      -       2        ticks  auction duration, raised to
-                                               ``2 x latency x hops`` to the farthest robot
-``reauction_every``    -       10       ticks  re-auction the least valued goal (0 = never)
-``line_of_sight``      -       False    -      count only unknown cells in line of sight
-=====================  ======  =======  =====  ==============================================
+``goal_spacing``       -       0.0      cells  least Euclidean distance between goal points; 0 = `R`
+``generation_radius``  -       1.0      cells  draw goals at most this far (path) beyond the nearest
+                                               unclaimed frontier cell
+``min_tour``           -       1        -      generate goals when the tour holds fewer goals
+``auction_ticks``      -       2        ticks  auction duration, raised to `2 x latency x hops`
+``reauction_every``    -       10       ticks  re-auction the least valued goal of the tour (0 =
+                                               never)
+``line_of_sight``      -       false    -      count only unknown cells in line of sight (in the
+                                               belief) in `I`
+=====================  ======  =======  =====  =====================================================
+
+.. params:end
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`):
 
@@ -386,21 +390,55 @@ class ZlotMarket(Strategy):
     )
     params: ClassVar[Mapping[str, Param]] = {
         "revenue_weight": Param(
-            1.0, "", "revenue per unknown cell, in cells of travel", "w_r", low=0
+            1.0,
+            "",
+            "revenue per unknown cell, in cells of travel",
+            "w_r",
+            low=0,
+            note="revenue per unknown cell expected to be seen, in cells of travel",
         ),
         "goals_per_round": Param(3, "", "goal points drawn per generation", low=1),
         "goal_spacing": Param(
-            0.0, "cells", "least distance between goals; 0 = sensor range", low=0
+            0.0,
+            "cells",
+            "least distance between goals; 0 = sensor range",
+            low=0,
+            note="least Euclidean distance between goal points; 0 = `R`",
         ),
         "generation_radius": Param(
-            1.0, "cells", "draw goals at most this far (path) beyond the nearest candidate", low=0
+            1.0,
+            "cells",
+            "draw goals at most this far (path) beyond the nearest candidate",
+            low=0,
+            note=("draw goals at most this far (path) beyond the nearest unclaimed frontier cell"),
         ),
-        "min_tour": Param(1, "", "generate new goals when the tour is shorter than this", low=1),
-        "auction_ticks": Param(2, "ticks", "auction duration (at least 2 x latency x hops)", low=1),
+        "min_tour": Param(
+            1,
+            "",
+            "generate new goals when the tour is shorter than this",
+            low=1,
+            note="generate goals when the tour holds fewer goals",
+        ),
+        "auction_ticks": Param(
+            2,
+            "ticks",
+            "auction duration (at least 2 x latency x hops)",
+            low=1,
+            note="auction duration, raised to `2 x latency x hops`",
+        ),
         "reauction_every": Param(
-            10, "ticks", "re-auction the least valued goal (0 = never)", low=0
+            10,
+            "ticks",
+            "re-auction the least valued goal (0 = never)",
+            low=0,
+            note="re-auction the least valued goal of the tour (0 = never)",
         ),
-        "line_of_sight": Param(False, "", "count only unknown cells in line of sight"),
+        "line_of_sight": Param(
+            False,
+            "",
+            "count only unknown cells in line of sight",
+            note="count only unknown cells in line of sight (in the belief) in `I`",
+        ),
     }
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
