@@ -24,42 +24,24 @@ Parameters (rendered from ``Burgard.params`` by :mod:`mrexplore.strategies.doc`)
 
 .. params:begin burgard
 
-=============================  =========  =========  =====  ========================================
-name                           symbol     default    unit   meaning
-=============================  =========  =========  =====  ========================================
-``beta``                       beta       1.0        -      weight of cost against utility
-``max_range``                  max_range  0.0        cells  radius of P(d); 0 = sensor range
-``normalize_cost``             -          true       -      scale each robot's costs to [0, 1]
-``visibility_discount``        -          true       -      discount only the targets in line of
-                                                            sight of a goal (its visibility area);
-                                                            false: every target within `max_range`
-``assign``                     -          team       -      whenever a robot needs a goal, re-assign
-                                                            the whole team (`team`), or only the
-                                                            robots that asked (`requesting`, our
-                                                            earlier version)
-``status_period``              -          1          ticks  with assign=team, each robot reports its
-                                                            position this often
-``protocol``                   -          positions  -      `positions`: the coordinator computes
-                                                            every cost on its map from reported
-                                                            positions (Burgard et al.); `bids`:
-                                                            every robot sends its costs to the
-                                                            frontier cells it can reach (the market
-                                                            paper's description of [3])
-``request_timeout``            -          5          ticks  resend a goal request if no assignment
-                                                            came
-``coordinator_timeout``        -          0          ticks  a robot that waited this long for a goal
-                                                            it can follow plans alone (ours, see
-                                                            below); 0 = 3 x `request_timeout`
-``block_limit``                -          2          -      a target the robot was blocked on this
-                                                            many times in a row counts as
-                                                            unreachable for it (ours, see below; 0 =
-                                                            never)
-``replan_every``               -          0          ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -          false      -      re-plan whenever the belief gained new
-                                                            cells
-``replan_on_target_explored``  -          true       -      re-plan when the goal is no longer a
-                                                            frontier cell
-=============================  =========  =========  =====  ========================================
+===================  ======  =========  =====  =====================================================
+name                 symbol  default    unit   meaning
+===================  ======  =========  =====  =====================================================
+DISCOUNT_PARAMS      -                         shared: :mod:`mrexplore.strategies.utility`
+``assign``           -       team       -      whenever a robot needs a goal, re-assign the whole
+                                               team (`team`), or only the robots that asked
+                                               (`requesting`, our earlier version)
+``status_period``    -       1          ticks  with assign=team, each robot reports its position
+                                               this often
+``protocol``         -       positions  -      `positions`: the coordinator computes every cost on
+                                               its map from reported positions (Burgard et al.);
+                                               `bids`: every robot sends its costs to the frontier
+                                               cells it can reach (the market paper's description of
+                                               [3])
+``request_timeout``  -       5          ticks  resend a goal request if no assignment came
+FALLBACK_PARAMS      -                         shared: :mod:`mrexplore.strategies.fallback`
+REPLAN_PARAMS        -                         shared: :mod:`mrexplore.strategies.base`
+===================  ======  =========  =====  =====================================================
 
 .. params:end
 

@@ -21,11 +21,11 @@ import math
 import re
 import sys
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from mrexplore.strategies.base import Param, Strategy
+from mrexplore.strategies.base import REPLAN_PARAMS, Param, Strategy
 
 PAGE_BEGIN = "<!-- params:begin -->"
 PAGE_END = "<!-- params:end -->"
@@ -75,27 +75,59 @@ def markdown_table(cls: type[Strategy]) -> str:
     return "\n".join(lines)
 
 
+def shared_groups() -> dict[str, Mapping[str, Param]]:
+    """Parameter groups that several strategies declare, by the name of their mapping.
+
+    A docstring table gives each group one row that points to it (the doc pages list
+    every parameter)."""
+    from mrexplore.strategies.fallback import FALLBACK_PARAMS
+    from mrexplore.strategies.utility import DISCOUNT_PARAMS
+
+    return {
+        "mrexplore.strategies.base.REPLAN_PARAMS": REPLAN_PARAMS,
+        "mrexplore.strategies.fallback.FALLBACK_PARAMS": FALLBACK_PARAMS,
+        "mrexplore.strategies.utility.DISCOUNT_PARAMS": DISCOUNT_PARAMS,
+    }
+
+
+def _docstring_rows(cls: type[Strategy]) -> list[tuple[str, str, str, str, str]]:
+    """One row per own parameter, and per shared parameter whose default ``cls``
+    changes; one row per shared group for the rest of its members."""
+    rows: list[tuple[str, str, str, str, str]] = []
+    done: set[str] = set()
+    groups = shared_groups()
+    for name, spec in cls.params.items():
+        group = next((g for g, members in groups.items() if name in members), None)
+        if group is None or spec.default != groups[group][name].default:
+            default = value_text(spec.default)
+            rows.append(
+                (f"``{name}``", spec.symbol or "-", default, spec.unit or "-", meaning(spec))
+            )
+        elif group not in done:
+            done.add(group)
+            module, label = group.rsplit(".", 1)
+            rows.append((label, "-", "", "", f"shared: :mod:`{module}`"))
+    return rows
+
+
 def docstring_table(cls: type[Strategy], width: int = LINE_LENGTH) -> str:
     """The parameter table of ``cls`` for its module docstring (a reST simple table
-    whose last column wraps to keep every line within ``width``)."""
+    whose last column wraps to keep every line within ``width``); a group of shared
+    parameters (:func:`shared_groups`) takes one row."""
     header = ("name", "symbol", "default", "unit", "meaning")
-    rows = [
-        (f"``{name}``", spec.symbol or "-", value_text(spec.default), spec.unit or "-")
-        for name, spec in cls.params.items()
-    ]
+    rows = _docstring_rows(cls)
     widths = [max(len(header[i]), *(len(row[i]) for row in rows)) for i in range(4)]
     last = width - sum(widths) - 2 * len(widths)
-    texts = [meaning(spec) for spec in cls.params.values()]
-    last = max(len(header[4]), min(last, max(len(t) for t in texts)))
+    last = max(len(header[4]), min(last, max(len(row[4]) for row in rows)))
     rule = "  ".join("=" * w for w in [*widths, last])
 
     def line(cells: Sequence[str]) -> str:
         return "  ".join(c.ljust(w) for c, w in zip(cells, [*widths, last], strict=True)).rstrip()
 
     out = [rule, line(header), rule]
-    for row, text in zip(rows, texts, strict=True):
-        wrapped = textwrap.wrap(text, last) or [""]
-        out.append(line([*row, wrapped[0]]))
+    for row in rows:
+        wrapped = textwrap.wrap(row[4], last, break_long_words=False) or [""]
+        out.append(line([*row[:4], wrapped[0]]))
         out += [line(["", "", "", "", more]) for more in wrapped[1:]]
     out.append(rule)
     return "\n".join(out)

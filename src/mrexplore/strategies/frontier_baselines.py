@@ -17,18 +17,14 @@ Parameters (rendered from the classes' ``params`` by :mod:`mrexplore.strategies.
 
 .. params:begin nearest-frontier
 
-=============================  ======  =======  =====  =============================================
-name                           symbol  default  unit   meaning
-=============================  ======  =======  =====  =============================================
-``min_frontier_size``          -       1        cells  ignore 8-connected frontier clusters smaller
-                                                       than this (Yamauchi's minimum region size);
-                                                       all frontier cells are used if none is big
-                                                       enough
-``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
-``replan_on_target_explored``  -       true     -      re-plan when the goal is no longer a frontier
-                                                       cell
-=============================  ======  =======  =====  =============================================
+=====================  ======  =======  =====  =====================================================
+name                   symbol  default  unit   meaning
+=====================  ======  =======  =====  =====================================================
+``min_frontier_size``  -       1        cells  ignore 8-connected frontier clusters smaller than
+                                               this (Yamauchi's minimum region size); all frontier
+                                               cells are used if none is big enough
+REPLAN_PARAMS          -                       shared: :mod:`mrexplore.strategies.base`
+=====================  ======  =======  =====  =====================================================
 
 .. params:end
 
@@ -43,8 +39,7 @@ name                           symbol  default  unit   meaning
                                                        than this (Yamauchi's minimum region size);
                                                        all frontier cells are used if none is big
                                                        enough
-``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
+REPLAN_PARAMS                  -                       shared: :mod:`mrexplore.strategies.base`
 ``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
                                                        cell
 =============================  ======  =======  =====  =============================================

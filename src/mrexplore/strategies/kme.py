@@ -72,14 +72,8 @@ name                           symbol  default  unit   meaning
                                                        has after this; 0 = 2 x latency x hops + 1
 ``request_timeout``            -       0        ticks  re-send a request that brought no target; 0 =
                                                        2 x round_timeout + 2
-``coordinator_timeout``        -       0        ticks  a robot that waited this long for a goal it
-                                                       can follow plans alone (ours, see below); 0 =
-                                                       3 x `request_timeout`
-``block_limit``                -       2        -      a target the robot was blocked on this many
-                                                       times in a row counts as unreachable for it
-                                                       (ours, see below; 0 = never)
-``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
+FALLBACK_PARAMS                -                       shared: :mod:`mrexplore.strategies.fallback`
+REPLAN_PARAMS                  -                       shared: :mod:`mrexplore.strategies.base`
 ``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
                                                        cell
 =============================  ======  =======  =====  =============================================

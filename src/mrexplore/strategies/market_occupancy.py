@@ -66,9 +66,9 @@ name                           symbol    default     unit                    mea
 ``rrt_global_eta``             eta       0.0         cells                   growth step of the
                                                                              global tree; Umari: 1 m
                                                                              with three robots on
-                                                                             the merged map (`three_
-                                                                             robots.launch`), 15 m
-                                                                             with one robot (75
+                                                                             the merged map
+                                                                             (`three_robots.launch`),
+                                                                             15 m with one robot (75
                                                                              cells); 0 = `rrt_eta`
 ``rrt_samples``                -         0           samples/tick            RRT iterations per tree
                                                                              per tick; 0 = from
@@ -97,8 +97,8 @@ name                           symbol    default     unit                    mea
                                                                              or `greedy` (the
                                                                              earlier version)
 ``rrt_bandwidth``              -         1.5         cells                   mean-shift bandwidth;
-                                                                             Umari's filter: `MeanSh
-                                                                             ift(bandwidth=0.3)`,
+                                                                             Umari's filter:
+                                                                             `MeanShift(bandwidth=0.3)`,
                                                                              0.3 m
 ``rrt_cluster_radius``         -         0.0         cells                   `greedy`: stored RRT
                                                                              points closer than this
@@ -141,10 +141,8 @@ name                           symbol    default     unit                    mea
                                                                              waits for its clock;
                                                                              `false`: it also opens
                                                                              a round at once
-``replan_every``               -         0           ticks                   also re-plan every k
-                                                                             ticks (0 = never)
-``replan_on_new_info``         -         false       -                       re-plan whenever the
-                                                                             belief gained new cells
+REPLAN_PARAMS                  -                                             shared:
+                                                                             :mod:`mrexplore.strategies.base`
 ``replan_on_target_explored``  -         false       -                       re-plan when the goal
                                                                              is no longer a frontier
                                                                              cell

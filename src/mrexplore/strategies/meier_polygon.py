@@ -23,23 +23,16 @@ Parameters (rendered from ``MeierPolygon.params`` by :mod:`mrexplore.strategies.
 
 .. params:begin meier-polygon
 
-=============================  =========  =======  =====  ==========================================
-name                           symbol     default  unit   meaning
-=============================  =========  =======  =====  ==========================================
-``beta``                       beta       1.0      -      weight of cost against utility
-``max_range``                  max_range  0.0      cells  radius of P(d); 0 = sensor range
-``normalize_cost``             -          true     -      scale each robot's costs to [0, 1]
-``visibility_discount``        -          true     -      discount only the targets in line of sight
-                                                          of a goal (its visibility area); false:
-                                                          every target within `max_range`
-``respect_priority``           -          true     -      only targets of robots with a lower id
-                                                          discount
-``replan_every``               -          0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -          false    -      re-plan whenever the belief gained new
-                                                          cells
-``replan_on_target_explored``  -          false    -      re-plan when the goal is no longer a
-                                                          frontier cell
-=============================  =========  =======  =====  ==========================================
+=============================  ======  =======  ====  ==============================================
+name                           symbol  default  unit  meaning
+=============================  ======  =======  ====  ==============================================
+DISCOUNT_PARAMS                -                      shared: :mod:`mrexplore.strategies.utility`
+``respect_priority``           -       true     -     only targets of robots with a lower id
+                                                      discount
+REPLAN_PARAMS                  -                      shared: :mod:`mrexplore.strategies.base`
+``replan_on_target_explored``  -       false    -     re-plan when the goal is no longer a frontier
+                                                      cell
+=============================  ======  =======  ====  ==============================================
 
 .. params:end
 

@@ -42,23 +42,19 @@ Parameters (rendered from ``Simmons.params`` by :mod:`mrexplore.strategies.doc`)
 
 .. params:begin simmons
 
-=============================  ======  =======  =====  =============================================
-name                           symbol  default  unit   meaning
-=============================  ======  =======  =====  =============================================
-``cost_weight``                w       4.0      -      weight of the travel cost in `I - w C` (both
-                                                       in cells)
-``bids_per_robot``             k       5        -      bids a robot sends per request
-``bid_separation``             -       0.0      cells  least Euclidean distance between two bids of
-                                                       one robot; 0 = `R`
-``line_of_sight``              -       false    -      count only unknown cells in line of sight (in
-                                                       the belief) in `I` and `O`
-``request_timeout``            -       5        ticks  resend bids if no assignment came back (at
-                                                       least `2 x latency + 1`)
-``replan_every``               -       0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -       false    -      re-plan whenever the belief gained new cells
-``replan_on_target_explored``  -       true     -      re-plan when the goal is no longer a frontier
-                                                       cell
-=============================  ======  =======  =====  =============================================
+===================  ======  =======  =====  =======================================================
+name                 symbol  default  unit   meaning
+===================  ======  =======  =====  =======================================================
+``cost_weight``      w       4.0      -      weight of the travel cost in `I - w C` (both in cells)
+``bids_per_robot``   k       5        -      bids a robot sends per request
+``bid_separation``   -       0.0      cells  least Euclidean distance between two bids of one robot;
+                                             0 = `R`
+``line_of_sight``    -       false    -      count only unknown cells in line of sight (in the
+                                             belief) in `I` and `O`
+``request_timeout``  -       5        ticks  resend bids if no assignment came back (at least `2 x
+                                             latency + 1`)
+REPLAN_PARAMS        -                       shared: :mod:`mrexplore.strategies.base`
+===================  ======  =======  =====  =======================================================
 
 .. params:end
 

@@ -129,10 +129,8 @@ name                           symbol  default            unit   meaning
                                                                  every change; `connectivity`: only
                                                                  into and out of achieve-
                                                                  connectivity
-``replan_every``               -       0                  ticks  also re-plan every k ticks (0 =
-                                                                 never)
-``replan_on_new_info``         -       false              -      re-plan whenever the belief gained
-                                                                 new cells
+REPLAN_PARAMS                  -                                 shared:
+                                                                 :mod:`mrexplore.strategies.base`
 ``replan_on_target_explored``  -       false              -      re-plan when the goal is no longer
                                                                  a frontier cell
 =============================  ======  =================  =====  ===================================
