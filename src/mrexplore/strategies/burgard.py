@@ -27,7 +27,6 @@ Parameters (rendered from ``Burgard.params`` by :mod:`mrexplore.strategies.doc`)
 ===================  ======  =========  =====  =====================================================
 name                 symbol  default    unit   meaning
 ===================  ======  =========  =====  =====================================================
-DISCOUNT_PARAMS      -                         shared: :mod:`mrexplore.strategies.utility`
 ``assign``           -       team       -      whenever a robot needs a goal, re-assign the whole
                                                team (`team`), or only the robots that asked
                                                (`requesting`, our earlier version)
@@ -39,8 +38,9 @@ DISCOUNT_PARAMS      -                         shared: :mod:`mrexplore.strategie
                                                cells it can reach (the market paper's description of
                                                [3])
 ``request_timeout``  -       5          ticks  resend a goal request if no assignment came
-FALLBACK_PARAMS      -                         shared: :mod:`mrexplore.strategies.fallback`
-REPLAN_PARAMS        -                         shared: :mod:`mrexplore.strategies.base`
+UtilityDiscounting   -                         shared: ``strategies.utility``
+ReplanRules          -                         shared: ``strategies.base``
+FallbackRules        -                         shared: ``strategies.fallback``
 ===================  ======  =========  =====  =====================================================
 
 .. params:end
@@ -108,7 +108,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -117,10 +116,9 @@ from mrexplore.comm.bytes import BID_BYTES, BROADCAST, STATUS_BYTES, fixed_size
 from mrexplore.comm.messages import BID, STATUS, Message, StatusItem, item_message
 from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.planning import distance_field, frontier_mask
-from mrexplore.strategies.base import Cell, Decision, Param, RobotView, frontier_params, passable
+from mrexplore.strategies.base import Cell, Decision, Param, RobotView, passable
 from mrexplore.strategies.coordinated import CoordinatedWithFallback
-from mrexplore.strategies.fallback import FALLBACK_PARAMS
-from mrexplore.strategies.utility import DISCOUNT_PARAMS, coverage_probability, discount
+from mrexplore.strategies.utility import UtilityDiscounting, coverage_probability, discount
 
 __all__ = [
     "BID_CALL",
@@ -225,50 +223,44 @@ def assign_greedy(
     return assigned
 
 
-class Burgard(CoordinatedWithFallback):
+class Burgard(UtilityDiscounting, CoordinatedWithFallback):
     """Burgard et al. 2005, run by the lowest-id robot of each sub-network."""
 
     id = "burgard"
     summary = "Burgard et al. 2005: utility discounting, central greedy assignment"
     citation = "W. Burgard et al., Coordinated multi-robot exploration, IEEE T-RO 21(3), 2005"
-    params: ClassVar[Mapping[str, Param]] = frontier_params(
-        {
-            **DISCOUNT_PARAMS,
-            "assign": Param(
-                "team",
-                "",
-                "whenever a robot needs a goal, assign the whole team, or only those that asked",
-                choices=("team", "requesting"),
-                note=(
-                    "whenever a robot needs a goal, re-assign the whole team (`team`), or "
-                    "only the robots that asked (`requesting`, our earlier version)"
-                ),
-            ),
-            "status_period": Param(
-                1, "ticks", "with assign=team, each robot reports its position this often", low=1
-            ),
-            "protocol": Param(
-                "positions",
-                "",
-                "positions: the coordinator plans on its map from reported positions; bids: "
-                "every robot sends its costs to every frontier cell (the market paper's [3])",
-                choices=("positions", "bids"),
-                note=(
-                    "`positions`: the coordinator computes every cost on its map from "
-                    "reported positions (Burgard et al.); `bids`: every robot sends its "
-                    "costs to the frontier cells it can reach (the market paper's "
-                    "description of [3])"
-                ),
-            ),
-            "request_timeout": Param(
-                5,
-                "ticks",
-                "resend a goal request after this many ticks",
-                low=1,
-                note="resend a goal request if no assignment came",
-            ),
-            **FALLBACK_PARAMS,
-        }
+    assign = Param(
+        "team",
+        "",
+        "whenever a robot needs a goal, assign the whole team, or only those that asked",
+        choices=("team", "requesting"),
+        note=(
+            "whenever a robot needs a goal, re-assign the whole team (`team`), or "
+            "only the robots that asked (`requesting`, our earlier version)"
+        ),
+    )
+    status_period = Param(
+        1, "ticks", "with assign=team, each robot reports its position this often", low=1
+    )
+    protocol = Param(
+        "positions",
+        "",
+        "positions: the coordinator plans on its map from reported positions; bids: "
+        "every robot sends its costs to every frontier cell (the market paper's [3])",
+        choices=("positions", "bids"),
+        note=(
+            "`positions`: the coordinator computes every cost on its map from "
+            "reported positions (Burgard et al.); `bids`: every robot sends its "
+            "costs to the frontier cells it can reach (the market paper's "
+            "description of [3])"
+        ),
+    )
+    request_timeout = Param(
+        5,
+        "ticks",
+        "resend a goal request after this many ticks",
+        low=1,
+        note="resend a goal request if no assignment came",
     )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
@@ -313,14 +305,14 @@ class Burgard(CoordinatedWithFallback):
             needs_goal = True
         if not needs_goal:
             self.watch.stop()
-            team = self.p["assign"] == "team" and self.p["protocol"] == "positions"
-            if team and view.tick - self.reported_at >= int(self.p["status_period"]):
+            team = self.assign == "team" and self.protocol == "positions"
+            if team and view.tick - self.reported_at >= self.status_period:
                 decision.messages.append(self._status(view, coordinator, needs_goal=False))
             return decision
-        own = self.fall_back(view, int(self.p["request_timeout"]))
+        own = self.fall_back(view, self.request_timeout)
         if own is not None:
             return own
-        if self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]:
+        if self.requested_at < 0 or view.tick - self.requested_at >= self.request_timeout:
             self.requested_at = view.tick
             if not called:
                 decision.messages.append(self._report(view, coordinator, needs_goal=True))
@@ -328,7 +320,7 @@ class Burgard(CoordinatedWithFallback):
 
     def _report(self, view: RobotView, coordinator: int, *, needs_goal: bool) -> Message:
         """``status`` (``protocol=positions``), or this robot's bids (``bids``)."""
-        if self.p["protocol"] == "positions":
+        if self.protocol == "positions":
             return self._status(view, coordinator, needs_goal=needs_goal)
         frontier = frontier_mask(view.belief)
         dist = distance_field(passable(view.belief), view.position, targets=frontier)
@@ -357,11 +349,11 @@ class Burgard(CoordinatedWithFallback):
                 {},
                 passable(view.belief),
                 frontier,
-                beta=float(self.p["beta"]),
-                max_range=float(self.p["max_range"]) or view.sensor_range,
-                normalize_cost=bool(self.p["normalize_cost"]),
+                beta=self.beta,
+                max_range=self.max_range or view.sensor_range,
+                normalize_cost=self.normalize_cost,
                 unreachable={self.robot_id: self.blocked_targets.excluded},
-                occupied=view.belief == OCCUPIED if self.p["visibility_discount"] else None,
+                occupied=view.belief == OCCUPIED if self.visibility_discount else None,
             )
             goal = assigned.get(self.robot_id)
             if goal is not None:
@@ -385,37 +377,37 @@ class Burgard(CoordinatedWithFallback):
         if not self.requests:
             return Decision()
         frontier = frontier_mask(view.belief)
-        chosen = members if self.p["assign"] == "team" else self.requests
+        chosen = members if self.assign == "team" else self.requests
         robots = sorted(r for r in chosen if r in self.known_positions)
         bids: dict[int, BidsPayload] | None = None
-        if self.p["protocol"] == "bids":
+        if self.protocol == "bids":
             # The market paper's [3]: "every robot constructs its bids and sends them to
             # a central executive". A round opens with a call to the team; it is decided
             # once every robot chosen has bid, or after request_timeout ticks.
             if self.round_opened is None:
                 self.round_opened = view.tick
                 self.bids = {r: b for r, b in self.bids.items() if r in self.requests}
-                if self.p["assign"] == "team" and len(members) > 1:
+                if self.assign == "team" and len(members) > 1:
                     call = Message(BID_CALL, self.robot_id, BROADCAST, fixed_size(0), None)
                     return Decision(messages=[call])
-            late = view.tick - self.round_opened >= int(self.p["request_timeout"])
+            late = view.tick - self.round_opened >= self.request_timeout
             if not late and any(r not in self.bids for r in chosen - {self.robot_id}):
                 return Decision()
             bids = {r: b for r, b in self.bids.items() if r in chosen}
             robots = sorted({self.robot_id} & chosen | set(bids))
             self.round_opened, self.bids = None, {}
             self.requests -= set(bids)  # served or not, a robot still in need asks again
-        max_range = float(self.p["max_range"]) or view.sensor_range
-        occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
+        max_range = self.max_range or view.sensor_range
+        occupied = view.belief == OCCUPIED if self.visibility_discount else None
         assigned = assign_greedy(
             robots,
             self.known_positions,
             {r: g for r, g in self.held_goals.items() if r not in robots},
             passable(view.belief),
             frontier,
-            beta=float(self.p["beta"]),
+            beta=self.beta,
             max_range=max_range,
-            normalize_cost=bool(self.p["normalize_cost"]),
+            normalize_cost=self.normalize_cost,
             unreachable={self.robot_id: self.blocked_targets.excluded},
             occupied=occupied,
             bids=bids,

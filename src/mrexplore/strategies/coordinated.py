@@ -12,7 +12,7 @@ such method does the same way lives here:
 * :class:`CoordinatedWithFallback`: the same with the two rules of
   :mod:`mrexplore.strategies.fallback` for lossy links and blocked targets (a robot
   left without an answer plans for a team of one; a target it was blocked on is
-  given up), with their parameters :data:`~mrexplore.strategies.fallback.FALLBACK_PARAMS`.
+  given up), with their parameters (:class:`~mrexplore.strategies.fallback.FallbackRules`).
 
 A method's own part (what the robots report, how the coordinator assigns) stays in
 its module.
@@ -26,7 +26,12 @@ from typing import Any
 from mrexplore.comm.messages import ASSIGN, CellItem, item_message
 from mrexplore.planning import path_to
 from mrexplore.strategies.base import Cell, Decision, FrontierStrategy, RobotView, passable
-from mrexplore.strategies.fallback import BlockedTargets, CoordinatorWatch, coordinator_timeout
+from mrexplore.strategies.fallback import (
+    BlockedTargets,
+    CoordinatorWatch,
+    FallbackRules,
+    coordinator_timeout,
+)
 
 
 class CoordinatedStrategy(FrontierStrategy):
@@ -84,17 +89,17 @@ class CoordinatedStrategy(FrontierStrategy):
             decision.messages.append(item_message(ASSIGN, self.robot_id, robot, assign))
 
 
-class CoordinatedWithFallback(CoordinatedStrategy):
+class CoordinatedWithFallback(CoordinatedStrategy, FallbackRules):
     """A coordinated strategy with the rules of :mod:`~mrexplore.strategies.fallback`.
 
-    Subclasses declare :data:`~mrexplore.strategies.fallback.FALLBACK_PARAMS` among
-    their parameters and implement :meth:`decide_coordinated` and :meth:`plan_alone`.
+    Its parameters include those of :class:`~mrexplore.strategies.fallback.FallbackRules`;
+    subclasses implement :meth:`decide_coordinated` and :meth:`plan_alone`.
     """
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
         self.watch = CoordinatorWatch()
-        self.blocked_targets = BlockedTargets(int(self.p["block_limit"]))
+        self.blocked_targets = BlockedTargets(self.block_limit)
 
     def decide(self, view: RobotView) -> Decision:
         self.blocked_targets.observe(view)
@@ -118,7 +123,7 @@ class CoordinatedWithFallback(CoordinatedStrategy):
         timeout (``coordinator_timeout``; 0 = 3 request periods of ``request_ticks``),
         or ``None`` while it still waits or found nothing."""
         self.watch.wait(view.tick)
-        timeout = coordinator_timeout(int(self.p["coordinator_timeout"]), request_ticks)
+        timeout = coordinator_timeout(self.coordinator_timeout, request_ticks)
         if not self.watch.expired(view.tick, timeout):
             return None
         own = self.plan_alone(view)

@@ -25,7 +25,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from mrexplore.strategies.base import REPLAN_PARAMS, Param, Strategy
+from mrexplore.strategies.base import Param, ReplanRules, Strategy, declared_params
 
 PAGE_BEGIN = "<!-- params:begin -->"
 PAGE_END = "<!-- params:end -->"
@@ -75,18 +75,18 @@ def markdown_table(cls: type[Strategy]) -> str:
     return "\n".join(lines)
 
 
-def shared_groups() -> dict[str, Mapping[str, Param]]:
-    """Parameter groups that several strategies declare, by the name of their mapping.
+def shared_groups() -> dict[str, Mapping[str, Param[Any]]]:
+    """Parameter groups that several strategies inherit, by the dotted name of the
+    class that declares them.
 
     A docstring table gives each group one row that points to it (the doc pages list
     every parameter)."""
-    from mrexplore.strategies.fallback import FALLBACK_PARAMS
-    from mrexplore.strategies.utility import DISCOUNT_PARAMS
+    from mrexplore.strategies.fallback import FallbackRules
+    from mrexplore.strategies.utility import UtilityDiscounting
 
     return {
-        "mrexplore.strategies.base.REPLAN_PARAMS": REPLAN_PARAMS,
-        "mrexplore.strategies.fallback.FALLBACK_PARAMS": FALLBACK_PARAMS,
-        "mrexplore.strategies.utility.DISCOUNT_PARAMS": DISCOUNT_PARAMS,
+        f"{group.__module__}.{group.__name__}": declared_params(group)
+        for group in (ReplanRules, FallbackRules, UtilityDiscounting)
     }
 
 
@@ -106,7 +106,7 @@ def _docstring_rows(cls: type[Strategy]) -> list[tuple[str, str, str, str, str]]
         elif group not in done:
             done.add(group)
             module, label = group.rsplit(".", 1)
-            rows.append((label, "-", "", "", f"shared: :mod:`{module}`"))
+            rows.append((label, "-", "", "", f"shared: ``{module.removeprefix('mrexplore.')}``"))
     return rows
 
 

@@ -23,7 +23,7 @@ name                   symbol  default  unit   meaning
 ``min_frontier_size``  -       1        cells  ignore 8-connected frontier clusters smaller than
                                                this (Yamauchi's minimum region size); all frontier
                                                cells are used if none is big enough
-REPLAN_PARAMS          -                       shared: :mod:`mrexplore.strategies.base`
+ReplanRules            -                       shared: ``strategies.base``
 =====================  ======  =======  =====  =====================================================
 
 .. params:end
@@ -35,13 +35,13 @@ REPLAN_PARAMS          -                       shared: :mod:`mrexplore.strategie
 =============================  ======  =======  =====  =============================================
 name                           symbol  default  unit   meaning
 =============================  ======  =======  =====  =============================================
+``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
+                                                       cell
 ``min_frontier_size``          -       1        cells  ignore 8-connected frontier clusters smaller
                                                        than this (Yamauchi's minimum region size);
                                                        all frontier cells are used if none is big
                                                        enough
-REPLAN_PARAMS                  -                       shared: :mod:`mrexplore.strategies.base`
-``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
-                                                       cell
+ReplanRules                    -                       shared: ``strategies.base``
 =============================  ======  =======  =====  =============================================
 
 .. params:end
@@ -51,8 +51,7 @@ Messages: none of their own; maps travel through the run's map-sharing mechanism
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -64,24 +63,10 @@ from mrexplore.strategies.base import (
     Decision,
     FrontierStrategy,
     Param,
+    ReplanRules,
     RobotView,
-    frontier_params,
     reachable_frontier_cells,
 )
-
-_MIN_FRONTIER_SIZE: dict[str, Param] = {
-    "min_frontier_size": Param(
-        1,
-        "cells",
-        "ignore frontier clusters smaller than this",
-        low=1,
-        note=(
-            "ignore 8-connected frontier clusters smaller than this (Yamauchi's "
-            "minimum region size); all frontier cells are used if none is big "
-            "enough"
-        ),
-    ),
-}
 
 
 def _large_clusters_only(frontier: npt.NDArray[np.bool_], min_size: int) -> npt.NDArray[np.bool_]:
@@ -100,12 +85,21 @@ class _FrontierBaseline(FrontierStrategy):
     clusters of at least ``min_frontier_size`` cells (every reachable frontier cell if
     none of those is reachable); each baseline picks one of them by :meth:`pick`."""
 
-    params: ClassVar[Mapping[str, Param]] = frontier_params(_MIN_FRONTIER_SIZE)
+    min_frontier_size = Param(
+        1,
+        "cells",
+        "ignore frontier clusters smaller than this",
+        low=1,
+        note=(
+            "ignore 8-connected frontier clusters smaller than this (Yamauchi's minimum "
+            "region size); all frontier cells are used if none is big enough"
+        ),
+    )
 
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
     ) -> Cell | None:
-        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
+        targets = _large_clusters_only(frontier, self.min_frontier_size)
         rows, cols = reachable_frontier_cells(targets, dist)
         if rows.size == 0 and targets is not frontier:
             rows, cols = reachable_frontier_cells(frontier, dist)
@@ -128,7 +122,7 @@ class NearestFrontier(_FrontierBaseline):
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
-        self.nearest_only = int(self.p["min_frontier_size"]) <= 1
+        self.nearest_only = self.min_frontier_size <= 1
 
     def decide(self, view: RobotView) -> Decision:
         if not self.nearest_only:
@@ -160,9 +154,7 @@ class RandomFrontier(_FrontierBaseline):
     id = "random-frontier"
     summary = "each robot picks a random reachable frontier cell (Sheng 2006 §5 case 1)"
     citation = "W. Sheng et al., Robotics and Autonomous Systems 54 (2006), §5 case (1)"
-    params: ClassVar[Mapping[str, Param]] = frontier_params(
-        _MIN_FRONTIER_SIZE, replan_on_target_explored=False
-    )
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
         return int(view.rng.integers(costs.size))

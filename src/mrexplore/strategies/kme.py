@@ -72,10 +72,10 @@ name                           symbol  default  unit   meaning
                                                        has after this; 0 = 2 x latency x hops + 1
 ``request_timeout``            -       0        ticks  re-send a request that brought no target; 0 =
                                                        2 x round_timeout + 2
-FALLBACK_PARAMS                -                       shared: :mod:`mrexplore.strategies.fallback`
-REPLAN_PARAMS                  -                       shared: :mod:`mrexplore.strategies.base`
 ``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
                                                        cell
+ReplanRules                    -                       shared: ``strategies.base``
+FallbackRules                  -                       shared: ``strategies.fallback``
 =============================  ======  =======  =====  =============================================
 
 .. params:end
@@ -166,7 +166,6 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 import numba
 import numpy as np
@@ -175,13 +174,11 @@ from scipy.optimize import linear_sum_assignment
 
 from mrexplore.comm.bytes import BROADCAST
 from mrexplore.comm.messages import STATUS, StatusItem, item_message
-from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import OCCUPIED, UNKNOWN, BeliefGrid
 from mrexplore.planning import distance_field, frontier_clusters, frontier_mask
 from mrexplore.planning.visibility import is_visible_kernel
-from mrexplore.strategies.base import Cell, Decision, Param, RobotView, frontier_params, passable
+from mrexplore.strategies.base import Cell, Decision, Param, ReplanRules, RobotView, passable
 from mrexplore.strategies.coordinated import CoordinatedWithFallback
-from mrexplore.strategies.fallback import FALLBACK_PARAMS
 from mrexplore.strategies.network import request_timeout, round_timeout
 
 FloatArray = npt.NDArray[np.float64]
@@ -768,81 +765,71 @@ class Kme(CoordinatedWithFallback):
         "L. Wu, D. Puig, M. A. Garcia, Balanced multi-robot exploration through a global "
         "optimization strategy (§IV, eqs. 1-7)"
     )
-    params: ClassVar[Mapping[str, Param]] = frontier_params(
-        {
-            "v": Param(
-                0.0,
-                "cells",
-                "penalty rho2 for a frontier chosen by another robot; 0 = l",
-                "v",
-                low=0,
-                note="penalty rho2 for a frontier already chosen by another robot; 0 = `l`",
-            ),
-            "fm_spacing": Param(
-                0.0,
-                "cells",
-                "least spacing of the frontiers in FM; 0 = sensor range",
-                low=0,
-                note=(
-                    "least distance between two frontiers of FM (paper: the sensor range); "
-                    "0 = sensor range"
-                ),
-            ),
-            "fm_order": Param(
-                "nearest",
-                "",
-                "greedy FM order: nearest | clusters | raster",
-                choices=FM_ORDERS,
-                note=(
-                    "order of the greedy FM choice: `nearest` (path cost from the closest "
-                    "robot), `clusters` (cluster representatives by size, then raster), "
-                    "`raster`"
-                ),
-            ),
-            "max_points": Param(
-                3000,
-                "cells",
-                "unknown cells K-Means is run on (random subsample)",
-                low=1,
-                note="unknown cells K-Means runs on (random subsample)",
-            ),
-            "kmeans_iterations": Param(
-                20,
-                "",
-                "most Lloyd iterations of K-Means per round",
-                low=1,
-                note="most Lloyd iterations per round (stops when labels settle)",
-            ),
-            "round_timeout": Param(
-                0,
-                "ticks",
-                "decide with the reports at hand after this; 0 = auto",
-                low=0,
-                note=(
-                    "the coordinator decides with the positions it has after this; 0 = 2 x "
-                    "latency x hops + 1"
-                ),
-            ),
-            "request_timeout": Param(
-                0,
-                "ticks",
-                "re-send a request after this; 0 = auto",
-                low=0,
-                note="re-send a request that brought no target; 0 = 2 x round_timeout + 2",
-            ),
-            **FALLBACK_PARAMS,
-        },
-        # §IV.D step 11: "Robots move to their targets until one robot arrives at its
-        # target": a round on arrival, not when a target got explored.
-        replan_on_target_explored=False,
+    v = Param(
+        0.0,
+        "cells",
+        "penalty rho2 for a frontier chosen by another robot; 0 = l",
+        "v",
+        low=0,
+        note="penalty rho2 for a frontier already chosen by another robot; 0 = `l`",
     )
+    fm_spacing = Param(
+        0.0,
+        "cells",
+        "least spacing of the frontiers in FM; 0 = sensor range",
+        low=0,
+        note=(
+            "least distance between two frontiers of FM (paper: the sensor range); 0 = sensor range"
+        ),
+    )
+    fm_order = Param(
+        "nearest",
+        "",
+        "greedy FM order: nearest | clusters | raster",
+        choices=FM_ORDERS,
+        note=(
+            "order of the greedy FM choice: `nearest` (path cost from the closest "
+            "robot), `clusters` (cluster representatives by size, then raster), "
+            "`raster`"
+        ),
+    )
+    max_points = Param(
+        3000,
+        "cells",
+        "unknown cells K-Means is run on (random subsample)",
+        low=1,
+        note="unknown cells K-Means runs on (random subsample)",
+    )
+    kmeans_iterations = Param(
+        20,
+        "",
+        "most Lloyd iterations of K-Means per round",
+        low=1,
+        note="most Lloyd iterations per round (stops when labels settle)",
+    )
+    round_timeout = Param(
+        0,
+        "ticks",
+        "decide with the reports at hand after this; 0 = auto",
+        low=0,
+        note=(
+            "the coordinator decides with the positions it has after this; 0 = 2 x "
+            "latency x hops + 1"
+        ),
+    )
+    request_timeout = Param(
+        0,
+        "ticks",
+        "re-send a request after this; 0 = auto",
+        low=0,
+        note="re-send a request that brought no target; 0 = 2 x round_timeout + 2",
+    )
+    # §IV.D step 11: "Robots move to their targets until one robot arrives at its
+    # target": a round on arrival, not when a target got explored.
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if self.p["fm_order"] not in FM_ORDERS:
-            raise ScenarioError(
-                f"--set fm_order={self.p['fm_order']}: choose one of {', '.join(FM_ORDERS)}"
-            )
         # Coordinator state.
         self.reports: dict[int, tuple[Cell, int]] = {}  # robot -> (position, tick sent)
         self.round_since = -1  # tick the open round's first request was sent, -1 = none
@@ -856,11 +843,11 @@ class Kme(CoordinatedWithFallback):
 
     # ------------------------------------------------------------ timing
     def _round_timeout(self, view: RobotView, coordinator: int) -> int:
-        return round_timeout(int(self.p["round_timeout"]), view, coordinator)
+        return round_timeout(self.round_timeout, view, coordinator)
 
     def _request_timeout(self, view: RobotView, coordinator: int) -> int:
         round_ticks = self._round_timeout(view, coordinator)
-        return request_timeout(int(self.p["request_timeout"]), round_ticks)
+        return request_timeout(self.request_timeout, round_ticks)
 
     # ------------------------------------------------------------ decide
     def decide_coordinated(self, view: RobotView) -> Decision:
@@ -952,12 +939,12 @@ class Kme(CoordinatedWithFallback):
             positions,
             view.rng,
             centroids,
-            fm_spacing=float(self.p["fm_spacing"]) or view.sensor_range,
-            v=float(self.p["v"]),
-            max_points=int(self.p["max_points"]),
-            max_iterations=int(self.p["kmeans_iterations"]),
+            fm_spacing=self.fm_spacing or view.sensor_range,
+            v=self.v,
+            max_points=self.max_points,
+            max_iterations=self.kmeans_iterations,
             taken=taken,
-            fm_order=str(self.p["fm_order"]),
+            fm_order=self.fm_order,
             unreachable={self.robot_id: self.blocked_targets.excluded},
         )
 

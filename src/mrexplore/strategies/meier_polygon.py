@@ -26,12 +26,12 @@ Parameters (rendered from ``MeierPolygon.params`` by :mod:`mrexplore.strategies.
 =============================  ======  =======  ====  ==============================================
 name                           symbol  default  unit  meaning
 =============================  ======  =======  ====  ==============================================
-DISCOUNT_PARAMS                -                      shared: :mod:`mrexplore.strategies.utility`
 ``respect_priority``           -       true     -     only targets of robots with a lower id
                                                       discount
-REPLAN_PARAMS                  -                      shared: :mod:`mrexplore.strategies.base`
 ``replan_on_target_explored``  -       false    -     re-plan when the goal is no longer a frontier
                                                       cell
+UtilityDiscounting             -                      shared: ``strategies.utility``
+ReplanRules                    -                      shared: ``strategies.base``
 =============================  ======  =======  ====  ==============================================
 
 .. params:end
@@ -48,8 +48,7 @@ new one. The cost scale follows ``burgard`` (see its doc page).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -62,35 +61,30 @@ from mrexplore.strategies.base import (
     Decision,
     FrontierStrategy,
     Param,
+    ReplanRules,
     RobotView,
-    frontier_params,
 )
-from mrexplore.strategies.utility import DISCOUNT_PARAMS, discount
+from mrexplore.strategies.utility import UtilityDiscounting, discount
 
 TPT = "TPT"
 
 
-class MeierPolygon(FrontierStrategy):
+class MeierPolygon(UtilityDiscounting, FrontierStrategy):
     """Meier et al. Algorithm 1: decentralised utility discounting."""
 
     id = "meier-polygon"
     summary = "Meier et al. 2005: decentralised discounting over polygon maps (Alg. 1)"
     citation = "D. Meier, C. Stachniss, W. Burgard, ECMR 2005, §4 and Algorithm 1"
     default_sharing = "polygon"
-    params: ClassVar[Mapping[str, Param]] = frontier_params(
-        {
-            **DISCOUNT_PARAMS,
-            "respect_priority": Param(
-                True,
-                "",
-                "only lower ids' targets discount",
-                note="only targets of robots with a lower id discount",
-            ),
-        },
-        # Algorithm 1 runs "whenever a robot selects a new target location": when it
-        # reached its target (or cannot reach it), not when the target got explored.
-        replan_on_target_explored=False,
+    respect_priority = Param(
+        True,
+        "",
+        "only lower ids' targets discount",
+        note="only targets of robots with a lower id discount",
     )
+    # Algorithm 1 runs "whenever a robot selects a new target location": when it
+    # reached its target (or cannot reach it), not when the target got explored.
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -120,14 +114,14 @@ class MeierPolygon(FrontierStrategy):
         if rows.size == 0:
             return None
         cost = dist[rows, cols]  # V_t
-        if self.p["normalize_cost"] and cost.max() > 0:
+        if self.normalize_cost and cost.max() > 0:
             cost = cost / cost.max()
         utility = np.ones(rows.size, dtype=np.float64)  # step 3
-        max_range = float(self.p["max_range"]) or view.sensor_range
-        occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
+        max_range = self.max_range or view.sensor_range
+        occupied = view.belief == OCCUPIED if self.visibility_discount else None
         for robot, target in sorted(self.received_targets.items()):  # steps 4-6
-            if robot == self.robot_id or (self.p["respect_priority"] and robot > self.robot_id):
+            if robot == self.robot_id or (self.respect_priority and robot > self.robot_id):
                 continue
             discount(utility, rows, cols, target, max_range, occupied)  # "in the visibility area"
-        best = int(np.argmax(utility - float(self.p["beta"]) * cost))  # step 7
+        best = int(np.argmax(utility - self.beta * cost))  # step 7
         return int(rows[best]), int(cols[best])

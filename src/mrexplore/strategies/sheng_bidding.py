@@ -165,7 +165,7 @@ Interpretations (where the paper is silent):
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -411,103 +411,100 @@ class ShengBidding(Strategy):
         "exploration, Robotics and Autonomous Systems 54 (2006), §2-3"
     )
     default_sharing: ClassVar[str] = "sheng-sync"
-    params: ClassVar[Mapping[str, Param]] = {
-        "w1": Param(
-            1.0,
-            "1/cell",
-            "weight of the information gain I_i",
-            "ω1",
-            low=0,
-            note="weight of the information gain `I_i` (§5)",
+    w1 = Param(
+        1.0,
+        "1/cell",
+        "weight of the information gain I_i",
+        "ω1",
+        low=0,
+        note="weight of the information gain `I_i` (§5)",
+    )
+    w2 = Param(
+        1.0,
+        "1/cell",
+        "weight of the travel distance D_i",
+        "ω2",
+        low=0,
+        note="weight of the travel distance `D_i` (§5)",
+    )
+    w3 = Param(
+        1.5,
+        "",
+        "weight of the nearness measure lambda_i",
+        "ω3",
+        low=0,
+        note='weight of the nearness `lambda_i` (§5; `0` = "without nearness")',
+    )
+    alpha = Param(
+        0.5,
+        "",
+        "fading factor of eq. (1)",
+        "α",
+        low=0,
+        high=1,
+        note=(
+            'fading factor of eq. (1), in [0, 1]; the paper says only "positive, smaller than 1"'
         ),
-        "w2": Param(
-            1.0,
-            "1/cell",
-            "weight of the travel distance D_i",
-            "ω2",
-            low=0,
-            note="weight of the travel distance `D_i` (§5)",
+    )
+    nearness_over = Param(
+        "subnetwork",
+        "",
+        "robots eq. (1) measures to: subnetwork (its n_k) or known (all last heard of)",
+        choices=("subnetwork", "known"),
+        note=(
+            "the robots eq. (1) measures to: the `n_k` of the sub-network, or "
+            "`known`, every robot last heard of (Fig. 2's example)"
         ),
-        "w3": Param(
-            1.5,
-            "",
-            "weight of the nearness measure lambda_i",
-            "ω3",
-            low=0,
-            note='weight of the nearness `lambda_i` (§5; `0` = "without nearness")',
+    )
+    eq2_units = Param(
+        "cells",
+        "",
+        "units of eq. (2)'s terms: cells, raw or unit-free",
+        choices=EQ2_UNITS,
+        note=(
+            "units of eq. (2)'s terms: `cells` (`lambda_i` in units of `r_c` "
+            "cells), `raw` (the literal sum) or `unit-free` (see Interpretations)"
         ),
-        "alpha": Param(
-            0.5,
-            "",
-            "fading factor of eq. (1)",
-            "α",
-            low=0,
-            high=1,
-            note=(
-                'fading factor of eq. (1), in [0, 1]; the paper says only "positive, '
-                'smaller than 1"'
-            ),
+    )
+    comm_range = Param(
+        0.0,
+        "cells",
+        "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)",
+        "r_c",
+        low=0,
+        note=(
+            "communication range in eq. (1); 0 = the run's `--comm-range`, or 16 "
+            "(section 5) when unlimited; `inf` makes every term 1: no pull"
         ),
-        "nearness_over": Param(
-            "subnetwork",
-            "",
-            "robots eq. (1) measures to: subnetwork (its n_k) or known (all last heard of)",
-            choices=("subnetwork", "known"),
-            note=(
-                "the robots eq. (1) measures to: the `n_k` of the sub-network, or "
-                "`known`, every robot last heard of (Fig. 2's example)"
-            ),
+    )
+    bid_time = Param(
+        1,
+        "ticks",
+        "bidding time (at least T_grace is used)",
+        "t_bid",
+        low=1,
+        note=("bidding time (paper: 1.5 s); the session lasts `max(bid_time, T_grace)`"),
+    )
+    session_floor = Param(
+        "grace",
+        "",
+        "least t_bid: grace (T_grace, so T_win >= 0) or delay (t_d)",
+        choices=("grace", "delay"),
+        note=(
+            "the least `t_bid`: `grace` (`T_grace`, so `T_win >= 0`) or `delay` "
+            "(`t_d`, the earlier reading; `T_win` can be -1)"
         ),
-        "eq2_units": Param(
-            "cells",
-            "",
-            "units of eq. (2)'s terms: cells, raw or unit-free",
-            choices=EQ2_UNITS,
-            note=(
-                "units of eq. (2)'s terms: `cells` (`lambda_i` in units of `r_c` "
-                "cells), `raw` (the literal sum) or `unit-free` (see Interpretations)"
-            ),
-        ),
-        "comm_range": Param(
-            0.0,
-            "cells",
-            "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)",
-            "r_c",
-            low=0,
-            note=(
-                "communication range in eq. (1); 0 = the run's `--comm-range`, or 16 "
-                "(section 5) when unlimited; `inf` makes every term 1: no pull"
-            ),
-        ),
-        "bid_time": Param(
-            1,
-            "ticks",
-            "bidding time (at least T_grace is used)",
-            "t_bid",
-            low=1,
-            note=("bidding time (paper: 1.5 s); the session lasts `max(bid_time, T_grace)`"),
-        ),
-        "session_floor": Param(
-            "grace",
-            "",
-            "least t_bid: grace (T_grace, so T_win >= 0) or delay (t_d)",
-            choices=("grace", "delay"),
-            note=(
-                "the least `t_bid`: `grace` (`T_grace`, so `T_win >= 0`) or `delay` "
-                "(`t_d`, the earlier reading; `T_win` can be -1)"
-            ),
-        ),
-        "declare_timeout": Param(
-            0,
-            "ticks",
-            "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d",
-            low=0,
-            note=("longest wait past `t_bid` for a winner's declaration; 0 = `t_bid + 2 t_d`"),
-        ),
-        "replan_on_target_explored": Param(
-            False, "", "stop and bid again when the target is no longer a frontier cell"
-        ),
-    }
+    )
+    declare_timeout = Param(
+        0,
+        "ticks",
+        "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d",
+        low=0,
+        note=("longest wait past `t_bid` for a winner's declaration; 0 = `t_bid + 2 t_d`"),
+    )
+    replan_on_target_explored = Param(
+        False, "", "stop and bid again when the target is no longer a frontier cell"
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -547,7 +544,7 @@ class ShengBidding(Strategy):
 
         if self.state == TRAVELLING:
             if view.goal is not None:
-                explored = bool(self.p["replan_on_target_explored"]) and not frontier_at(
+                explored = self.replan_on_target_explored and not frontier_at(
                     view.belief, *view.goal
                 )
                 if not explored:
@@ -701,7 +698,7 @@ class ShengBidding(Strategy):
 
     def _r_c(self, view: RobotView) -> float:
         """r_c of eq. (1): the parameter, else the run's range, else the paper's 16."""
-        given = float(self.p["comm_range"])
+        given = self.comm_range
         if given > 0:
             return given
         return view.comm_range if math.isfinite(view.comm_range) else PAPER_R_C
@@ -713,7 +710,7 @@ class ShengBidding(Strategy):
     def _evaluate(self, view: RobotView) -> tuple[Bid, npt.NDArray[np.float64]] | None:
         others = view.subnetwork - {self.robot_id}
         near: list[Cell] | None = None
-        if self.p["nearness_over"] == "known":  # eq. (1) over every robot last heard of
+        if self.nearness_over == "known":  # eq. (1) over every robot last heard of
             known = {**self.positions, **self.targets}
             near = [cell for robot, cell in sorted(known.items()) if robot != self.robot_id]
         return compute_bid(
@@ -723,11 +720,11 @@ class ShengBidding(Strategy):
             [cell for robot, cell in sorted(self.targets.items()) if robot in others],
             sensor_range=view.sensor_range,
             comm_range=self._r_c(view),
-            alpha=float(self.p["alpha"]),
-            w1=float(self.p["w1"]),
-            w2=float(self.p["w2"]),
-            w3=float(self.p["w3"]),
-            units=str(self.p["eq2_units"]),
+            alpha=self.alpha,
+            w1=self.w1,
+            w2=self.w2,
+            w3=self.w3,
+            units=self.eq2_units,
             nearness_cells=near,
         )
 

@@ -53,7 +53,7 @@ name                 symbol  default  unit   meaning
                                              belief) in `I` and `O`
 ``request_timeout``  -       5        ticks  resend bids if no assignment came back (at least `2 x
                                              latency + 1`)
-REPLAN_PARAMS        -                       shared: :mod:`mrexplore.strategies.base`
+ReplanRules          -                       shared: ``strategies.base``
 ===================  ======  =======  =====  =======================================================
 
 .. params:end
@@ -113,14 +113,12 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, float32_on_wire
 from mrexplore.comm.messages import BID, BidItem, Message
-from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import disk_mask, distance_field, frontier_mask, information_gain
 from mrexplore.strategies.base import (
@@ -128,7 +126,6 @@ from mrexplore.strategies.base import (
     Decision,
     Param,
     RobotView,
-    frontier_params,
     passable,
     reachable_frontier_cells,
 )
@@ -275,44 +272,38 @@ class Simmons(CoordinatedStrategy):
     id = "simmons"
     summary = "Simmons et al. 2000: information-gain bids, central greedy assignment"
     citation = "R. Simmons et al., Coordination for multi-robot exploration and mapping, AAAI 2000"
-    params: ClassVar[Mapping[str, Param]] = frontier_params(
-        {
-            "cost_weight": Param(
-                4.0,
-                "",
-                "weight w of travel cost in the bid I - w C",
-                "w",
-                low=0,
-                note="weight of the travel cost in `I - w C` (both in cells)",
-            ),
-            "bids_per_robot": Param(5, "", "bids a robot sends per request", "k", low=1),
-            "bid_separation": Param(
-                0.0,
-                "cells",
-                "least distance between two bids of a robot; 0 = sensor range",
-                low=0,
-                note="least Euclidean distance between two bids of one robot; 0 = `R`",
-            ),
-            "line_of_sight": Param(
-                False,
-                "",
-                "count only unknown cells in line of sight",
-                note=("count only unknown cells in line of sight (in the belief) in `I` and `O`"),
-            ),
-            "request_timeout": Param(
-                5,
-                "ticks",
-                "resend bids after this many ticks",
-                low=1,
-                note="resend bids if no assignment came back (at least `2 x latency + 1`)",
-            ),
-        }
+    cost_weight = Param(
+        4.0,
+        "",
+        "weight w of travel cost in the bid I - w C",
+        "w",
+        low=0,
+        note="weight of the travel cost in `I - w C` (both in cells)",
+    )
+    bids_per_robot = Param(5, "", "bids a robot sends per request", "k", low=1)
+    bid_separation = Param(
+        0.0,
+        "cells",
+        "least distance between two bids of a robot; 0 = sensor range",
+        low=0,
+        note="least Euclidean distance between two bids of one robot; 0 = `R`",
+    )
+    line_of_sight = Param(
+        False,
+        "",
+        "count only unknown cells in line of sight",
+        note=("count only unknown cells in line of sight (in the belief) in `I` and `O`"),
+    )
+    request_timeout = Param(
+        5,
+        "ticks",
+        "resend bids after this many ticks",
+        low=1,
+        note="resend bids if no assignment came back (at least `2 x latency + 1`)",
     )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if int(self.p["bids_per_robot"]) < 1:
-            raise ScenarioError(f"--set bids_per_robot={self.p['bids_per_robot']}: must be >= 1")
         # Coordinator state: bids waiting for a round (and the goals it has assigned).
         self.pending_bids: dict[int, tuple[Bid, ...]] = {}
 
@@ -330,11 +321,11 @@ class Simmons(CoordinatedStrategy):
             view.belief,
             np.column_stack((rows, cols)),
             view.sensor_range,
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
-        values = bid_value(gains, dist[rows, cols], float(self.p["cost_weight"]))
-        separation = float(self.p["bid_separation"]) or view.sensor_range
-        chosen = select_bids(rows, cols, values, int(self.p["bids_per_robot"]), separation)
+        values = bid_value(gains, dist[rows, cols], self.cost_weight)
+        separation = self.bid_separation or view.sensor_range
+        chosen = select_bids(rows, cols, values, self.bids_per_robot, separation)
         sent = float32_on_wire(values[chosen])
         return tuple(
             Bid(self.robot_id, (int(rows[i]), int(cols[i])), float(value))
@@ -375,7 +366,7 @@ class Simmons(CoordinatedStrategy):
         return decision
 
     def _request_due(self, view: RobotView) -> bool:
-        timeout = max(int(self.p["request_timeout"]), 2 * view.comm_latency + 1)
+        timeout = max(self.request_timeout, 2 * view.comm_latency + 1)
         return self.requested_at < 0 or view.tick - self.requested_at >= timeout
 
     # ------------------------------------------------------------------ step 2
@@ -397,7 +388,7 @@ class Simmons(CoordinatedStrategy):
             view.belief,
             view.sensor_range,
             [g for r, g in self.held_goals.items() if r not in self.pending_bids],
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
         decision = Decision()
         own_bids = self.pending_bids.get(self.robot_id)

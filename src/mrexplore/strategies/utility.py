@@ -6,31 +6,39 @@ Meier, Stachniss & Burgard §4, eq. (1) and Algorithm 1 step 5; Burgard et al. 2
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import numpy.typing as npt
 
 from mrexplore.sensing import visible_cells_flat
-from mrexplore.strategies.base import Cell, Param
+from mrexplore.strategies.base import Cell, Param, declared_params
 
-DISCOUNT_PARAMS: dict[str, Param] = {
-    "beta": Param(
+
+class UtilityDiscounting:
+    """The parameters of utility discounting (a parameter group): the trade-off
+    ``U - beta V``, the radius of ``P(d)``, the scale of ``V`` and where the discount
+    applies.
+    """
+
+    beta = Param(
         1.0,
         "",
         "weight of travel cost against utility",
         "beta",
         low=0,
         note="weight of cost against utility",
-    ),
-    "max_range": Param(
+    )
+    max_range = Param(
         0.0,
         "cells",
         "discount radius of P(d); 0 = sensor range",
         "max_range",
         low=0,
         note="radius of P(d); 0 = sensor range",
-    ),
-    "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
-    "visibility_discount": Param(
+    )
+    normalize_cost = Param(True, "", "scale each robot's costs to [0, 1]")
+    visibility_discount = Param(
         True,
         "",
         "discount only targets in line of sight of a goal (its visibility area)",
@@ -38,10 +46,11 @@ DISCOUNT_PARAMS: dict[str, Param] = {
             "discount only the targets in line of sight of a goal (its visibility "
             "area); false: every target within `max_range`"
         ),
-    ),
-}
-"""The parameters of utility discounting: the trade-off ``U - beta V``, the radius of
-``P(d)``, the scale of ``V`` and where the discount applies."""
+    )
+
+
+DISCOUNT_PARAMS: dict[str, Param[Any]] = declared_params(UtilityDiscounting)
+"""The parameters of utility discounting by name (:class:`UtilityDiscounting`)."""
 
 
 def coverage_probability(distance: npt.NDArray[np.float64], max_range: float) -> np.ndarray:

@@ -129,14 +129,12 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, float32_on_wire
 from mrexplore.comm.messages import BID, BidItem, CellItem, Message, item_message
-from mrexplore.errors import ScenarioError
 from mrexplore.planning import SQRT2, distance_field, frontier_mask, information_gain, path_to
 from mrexplore.planning.distance import count_field, distance_field_kernel
 from mrexplore.strategies.base import (
@@ -388,67 +386,59 @@ class ZlotMarket(Strategy):
         "R. Zlot, A. Stentz, M. B. Dias, S. Thayer, Multi-robot exploration controlled "
         "by a market economy, ICRA 2002"
     )
-    params: ClassVar[Mapping[str, Param]] = {
-        "revenue_weight": Param(
-            1.0,
-            "",
-            "revenue per unknown cell, in cells of travel",
-            "w_r",
-            low=0,
-            note="revenue per unknown cell expected to be seen, in cells of travel",
-        ),
-        "goals_per_round": Param(3, "", "goal points drawn per generation", low=1),
-        "goal_spacing": Param(
-            0.0,
-            "cells",
-            "least distance between goals; 0 = sensor range",
-            low=0,
-            note="least Euclidean distance between goal points; 0 = `R`",
-        ),
-        "generation_radius": Param(
-            1.0,
-            "cells",
-            "draw goals at most this far (path) beyond the nearest candidate",
-            low=0,
-            note=("draw goals at most this far (path) beyond the nearest unclaimed frontier cell"),
-        ),
-        "min_tour": Param(
-            1,
-            "",
-            "generate new goals when the tour is shorter than this",
-            low=1,
-            note="generate goals when the tour holds fewer goals",
-        ),
-        "auction_ticks": Param(
-            2,
-            "ticks",
-            "auction duration (at least 2 x latency x hops)",
-            low=1,
-            note="auction duration, raised to `2 x latency x hops`",
-        ),
-        "reauction_every": Param(
-            10,
-            "ticks",
-            "re-auction the least valued goal (0 = never)",
-            low=0,
-            note="re-auction the least valued goal of the tour (0 = never)",
-        ),
-        "line_of_sight": Param(
-            False,
-            "",
-            "count only unknown cells in line of sight",
-            note="count only unknown cells in line of sight (in the belief) in `I`",
-        ),
-    }
+    revenue_weight = Param(
+        1.0,
+        "",
+        "revenue per unknown cell, in cells of travel",
+        "w_r",
+        low=0,
+        note="revenue per unknown cell expected to be seen, in cells of travel",
+    )
+    goals_per_round = Param(3, "", "goal points drawn per generation", low=1)
+    goal_spacing = Param(
+        0.0,
+        "cells",
+        "least distance between goals; 0 = sensor range",
+        low=0,
+        note="least Euclidean distance between goal points; 0 = `R`",
+    )
+    generation_radius = Param(
+        1.0,
+        "cells",
+        "draw goals at most this far (path) beyond the nearest candidate",
+        low=0,
+        note=("draw goals at most this far (path) beyond the nearest unclaimed frontier cell"),
+    )
+    min_tour = Param(
+        1,
+        "",
+        "generate new goals when the tour is shorter than this",
+        low=1,
+        note="generate goals when the tour holds fewer goals",
+    )
+    auction_ticks = Param(
+        2,
+        "ticks",
+        "auction duration (at least 2 x latency x hops)",
+        low=1,
+        note="auction duration, raised to `2 x latency x hops`",
+    )
+    reauction_every = Param(
+        10,
+        "ticks",
+        "re-auction the least valued goal (0 = never)",
+        low=0,
+        note="re-auction the least valued goal of the tour (0 = never)",
+    )
+    line_of_sight = Param(
+        False,
+        "",
+        "count only unknown cells in line of sight",
+        note="count only unknown cells in line of sight (in the belief) in `I`",
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        for name in ("goals_per_round", "min_tour", "auction_ticks"):
-            if int(self.p[name]) < 1:
-                raise ScenarioError(f"--set {name}={self.p[name]}: must be >= 1")
-        for name in ("goal_spacing", "generation_radius", "reauction_every"):
-            if self.p[name] < 0:
-                raise ScenarioError(f"--set {name}={self.p[name]}: must be >= 0")
         self.tour: list[Cell] = []
         self.auctions: dict[Cell, OpenAuction] = {}
         self.foreign_goals: dict[Cell, int] = {}
@@ -462,9 +452,9 @@ class ZlotMarket(Strategy):
             view.belief,
             np.array(goals, dtype=np.int64).reshape(-1, 2),
             view.sensor_range,
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
-        return revenue(gain, float(self.p["revenue_weight"]))
+        return revenue(gain, self.revenue_weight)
 
     def _tour_points(self, view: RobotView) -> list[Cell]:
         return [view.position, *self.tour]
@@ -552,7 +542,7 @@ class ZlotMarket(Strategy):
         if rows.size == 0:
             return []
         self.foreign_goals = {g: r for g, r in self.foreign_goals.items() if frontier[g]}
-        spacing = float(self.p["goal_spacing"]) or view.sensor_range
+        spacing = self.goal_spacing or view.sensor_range
         held = self.tour + [g for g, r in self.foreign_goals.items() if r in view.subnetwork]
         unclaimed = np.ones(rows.size, dtype=bool)
         for row, col in held:
@@ -560,14 +550,14 @@ class ZlotMarket(Strategy):
         if unclaimed.any():
             rows, cols = rows[unclaimed], cols[unclaimed]
         cost = dist[rows, cols]
-        near = cost <= cost.min() + float(self.p["generation_radius"])
+        near = cost <= cost.min() + self.generation_radius
         rows, cols = rows[near], cols[near]
-        chosen = spread_goals(rows, cols, int(self.p["goals_per_round"]), spacing, view.rng)
+        chosen = spread_goals(rows, cols, self.goals_per_round, spacing, view.rng)
         return [(int(rows[i]), int(cols[i])) for i in chosen]
 
     def _auction_duration(self, view: RobotView) -> int:
         hops = hops_to_farthest(self.robot_id, view.links)
-        return max(int(self.p["auction_ticks"]), 2 * view.comm_latency * max(hops, 1))
+        return max(self.auction_ticks, 2 * view.comm_latency * max(hops, 1))
 
     def _announce(
         self, view: RobotView, goals: Sequence[Cell], reserves: Sequence[float]
@@ -642,7 +632,7 @@ class ZlotMarket(Strategy):
 
         alone = len(view.subnetwork) < 2
         # Step 1: generate goals when the tour runs short; auction them.
-        if len(self.tour) < int(self.p["min_tour"]) and view.tick >= self.next_generation:
+        if len(self.tour) < self.min_tour and view.tick >= self.next_generation:
             added = self.insert(view, self.generate_goals(view))
             if not added:
                 self.next_generation = view.tick + GENERATION_RETRY_TICKS
@@ -652,7 +642,7 @@ class ZlotMarket(Strategy):
                 decision.messages += self._announce(view, added, [value_of[g] for g in added])
 
         # Step 5: re-auction the least valued goal.
-        every = int(self.p["reauction_every"])
+        every = self.reauction_every
         if every > 0 and not alone and view.tick - self.last_reauction >= every:
             self.last_reauction = view.tick
             values = self.tour_values(view)
