@@ -16,13 +16,13 @@ import pytest
 
 from mrexplore.cli import main
 from mrexplore.comm.bytes import TARGET_BYTES, fixed_size
-from mrexplore.comm.messages import ASSIGN, STATUS, Message
+from mrexplore.comm.messages import ASSIGN, STATUS, CellItem, Message
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import frontier_mask
 from mrexplore.sim import Scenario
 from mrexplore.sim.engine import Simulation
 from mrexplore.strategies.base import Decision, RobotView, passable
-from mrexplore.strategies.burgard import AssignPayload, Burgard, assign_greedy
+from mrexplore.strategies.burgard import Burgard, assign_greedy
 from mrexplore.strategies.fallback import BlockedTargets, CoordinatorWatch, coordinator_timeout
 from mrexplore.strategies.kme import Kme, kme_round
 
@@ -152,7 +152,7 @@ def test_burgard_member_follows_a_late_assignment_over_its_own_goal() -> None:
     own = next(d.goal for _, d in _run_member(member, 20) if d.goal is not None)
     assert own is not None
     late = (2, 36)
-    message = Message(ASSIGN, 0, 1, fixed_size(TARGET_BYTES), AssignPayload(1, late))
+    message = Message(ASSIGN, 0, 1, fixed_size(TARGET_BYTES), CellItem(1, late))
     decision = member.decide(corridor(1, 21, goal=own, inbox=(message,)))
     assert decision.goal == late
 

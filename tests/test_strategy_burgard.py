@@ -6,11 +6,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from mrexplore.comm.messages import ASSIGN, BID, STATUS, Message
+from mrexplore.comm.messages import ASSIGN, BID, STATUS, Message, StatusItem
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.base import RobotView
-from mrexplore.strategies.burgard import BID_CALL, Burgard, StatusPayload, bids_size, discount
+from mrexplore.strategies.burgard import BID_CALL, Burgard, bids_size, discount
 
 
 def _room(robot_id: int, tick: int, inbox: tuple[Message, ...] = (), **view: object) -> RobotView:
@@ -43,7 +43,7 @@ def _room(robot_id: int, tick: int, inbox: tuple[Message, ...] = (), **view: obj
 
 
 def _status(robot: int, position: tuple[int, int], needs_goal: bool) -> Message:
-    return Message(STATUS, robot, 0, 15, StatusPayload(robot, position, needs_goal))
+    return Message(STATUS, robot, 0, 15, StatusItem(robot, position, needs_goal))
 
 
 def test_the_coordinator_assigns_every_waiting_robot_in_one_call() -> None:
@@ -53,7 +53,7 @@ def test_the_coordinator_assigns_every_waiting_robot_in_one_call() -> None:
     coordinator = Burgard(0, 3)
     inbox = (_status(1, (2, 6), True), _status(2, (6, 23), True))
     decision = coordinator.decide(_room(0, 5, inbox))
-    assigned = {m.payload.robot: m.payload.goal for m in decision.messages if m.type == ASSIGN}
+    assigned = {m.payload.robot: m.payload.cell for m in decision.messages if m.type == ASSIGN}
     assert set(assigned) == {1, 2}
     assert decision.goal is not None
     # Each robot goes to the end it is near: 1 to the left, 2 to the right.
@@ -67,13 +67,13 @@ def test_whole_team_assignment_moves_a_robot_on_its_way_and_the_old_rule_does_no
         coordinator = Burgard(0, 3, assign=rule)
         # Round 1: robot 1 asks from the right end and gets the right frontier.
         first = coordinator.decide(_room(0, 1, (_status(1, (4, 23), True),), goal=(4, 4)))
-        goal_1 = next(m.payload.goal for m in first.messages if m.type == ASSIGN)
+        goal_1 = next(m.payload.cell for m in first.messages if m.type == ASSIGN)
         assert goal_1[1] > 14
         # Robot 1 has walked to the left end (its report says so); robot 2 asks from the
         # right end: the best tuple now sends robot 2 right and robot 1 left.
         inbox = (_status(1, (4, 6), False), _status(2, (4, 23), True))
         second = coordinator.decide(_room(0, 2, inbox, goal=(4, 4)))
-        assigned = {m.payload.robot: m.payload.goal for m in second.messages if m.type == ASSIGN}
+        assigned = {m.payload.robot: m.payload.cell for m in second.messages if m.type == ASSIGN}
         assert set(assigned) == expected, rule
 
 
@@ -155,7 +155,7 @@ def test_bids_protocol_calls_the_team_and_assigns_from_the_costs_the_robots_sent
     lying[bids_2.payload.cols < 10] = 0.5
     fake = Message(BID, 2, 0, bids_2.size_bytes, replace(bids_2.payload, costs=lying))
     decided = coordinator.decide(_room(0, 3, (fake,), goal=(4, 4)))
-    assigned = {m.payload.robot: m.payload.goal for m in decided.messages if m.type == ASSIGN}
+    assigned = {m.payload.robot: m.payload.cell for m in decided.messages if m.type == ASSIGN}
     assert assigned[2][1] < 10
     assert 1 in assigned
 

@@ -19,7 +19,6 @@ from mrexplore.strategies.kme import (
     choose_target,
     contour_cells,
     frontier_subset,
-    hops_from,
     inaccessible_contour_distance,
     kme_round,
     kmeans,
@@ -29,6 +28,7 @@ from mrexplore.strategies.kme import (
     robot_region_distances,
     target_distance,
 )
+from mrexplore.strategies.network import hops_from
 from mrexplore.strategies.registry import register
 
 register(Kme)

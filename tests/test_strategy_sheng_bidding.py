@@ -10,11 +10,13 @@ import pytest
 
 from mrexplore.checks import check_strategy
 from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, POSITION_BYTES, TARGET_BYTES
-from mrexplore.comm.messages import BID, Message
+from mrexplore.comm.messages import BID, BidItem, CellItem, Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
+from mrexplore.planning import disk_mask
 from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.base import RobotView
+from mrexplore.strategies.network import hop_diameter
 from mrexplore.strategies.registry import register
 from mrexplore.strategies.sheng_bidding import (
     BIDDING,
@@ -22,13 +24,8 @@ from mrexplore.strategies.sheng_bidding import (
     TRAVELLING,
     WAITING,
     WINNER,
-    BidPayload,
-    PositionPayload,
     ShengBidding,
-    TargetPayload,
     compute_bid,
-    exclusion_mask,
-    hop_diameter,
     information_gains,
     nearness,
     net_gain,
@@ -94,7 +91,7 @@ def test_information_gain_excludes_other_robots_sensor_disks() -> None:
 
 
 def test_exclusion_mask_clips_at_the_border() -> None:
-    mask = exclusion_mask((3, 3), [(0, 0)], 1.0)
+    mask = disk_mask((3, 3), [(0, 0)], 1.0)
     assert mask.astype(int).tolist() == [[1, 1, 0], [1, 0, 0], [0, 0, 0]]
 
 
@@ -238,7 +235,7 @@ def _view(
 
 
 def _bid_from(robot: int, value: float, target: tuple[int, int] = (4, 7)) -> Message:
-    return Message(BID, robot, 0xFFFF, HEADER_BYTES + BID_BYTES, BidPayload(robot, target, value))
+    return Message(BID, robot, 0xFFFF, HEADER_BYTES + BID_BYTES, BidItem(robot, target, value))
 
 
 def _types(decision: Any) -> list[str]:
@@ -267,7 +264,7 @@ def test_a_lone_robot_wins_its_own_session_after_t_bid() -> None:
     assert second.goal is not None and robot.state == TRAVELLING
     assert second.path is not None and tuple(second.path[-1]) == second.goal
     payload = second.messages[0].payload
-    assert isinstance(payload, TargetPayload) and payload.target == second.goal
+    assert isinstance(payload, CellItem) and payload.cell == second.goal
 
 
 def test_a_better_bid_makes_the_robot_wait_and_a_silent_winner_times_out() -> None:
@@ -290,16 +287,14 @@ def test_a_better_bid_makes_the_robot_wait_and_a_silent_winner_times_out() -> No
 def test_a_declaration_ends_the_session_and_the_loser_bids_again() -> None:
     robot = ShengBidding(0, 2)
     first = robot.decide(_view(0, 1))
-    first_target = first.messages[1].payload.target
+    first_target = first.messages[1].payload.cell
     robot.decide(_view(0, 2, inbox=(_bid_from(1, 1000.0),)))
     # Robot 1 declares itself the winner, with robot 0's former target as its own.
-    declaration = Message(
-        WINNER, 1, 0xFFFF, HEADER_BYTES + TARGET_BYTES, TargetPayload(1, first_target)
-    )
+    declaration = Message(WINNER, 1, 0xFFFF, HEADER_BYTES + TARGET_BYTES, CellItem(1, first_target))
     again = robot.decide(_view(0, 3, inbox=(declaration,)))
     assert _types(again) == [BID]
     assert robot.targets == {1: first_target}
-    assert again.messages[0].payload.target != first_target
+    assert again.messages[0].payload.cell != first_target
 
 
 def test_ties_go_to_the_lower_id() -> None:
@@ -317,12 +312,12 @@ def test_a_robot_finishing_sensing_in_a_closing_session_waits_for_the_next() -> 
     robot = ShengBidding(0, 2)
     # Robot 1's bid arrives at tick 4 (sent at tick 3 over one hop). Robot 0 finishes
     # sensing at tick 4: 4 - 3 = 1 > T_win = 0, so it stays out and waits.
-    position = Message(POSITION, 1, 0xFFFF, 13, PositionPayload(1, (3, 3)))
+    position = Message(POSITION, 1, 0xFFFF, 13, CellItem(1, (3, 3)))
     waiting = robot.decide(_view(0, 4, inbox=(position, _bid_from(1, 5.0))))
     assert robot.state == WAITING
     assert _types(waiting) == [POSITION]
     assert robot.positions == {1: (3, 3)}
-    declaration = Message(WINNER, 1, 0xFFFF, 13, TargetPayload(1, (4, 7)))
+    declaration = Message(WINNER, 1, 0xFFFF, 13, CellItem(1, (4, 7)))
     joined = robot.decide(_view(0, 6, inbox=(declaration,)))
     assert robot.state == BIDDING and _types(joined) == [BID]
 
@@ -352,7 +347,7 @@ def test_a_robot_joining_the_sub_network_hears_the_travelling_robots_target() ->
     assert win.goal is not None
     moving = robot.decide(_view(0, 3, team=frozenset({0, 1}), goal=win.goal))
     assert _types(moving) == ["target"]
-    assert moving.messages[0].payload == TargetPayload(0, win.goal)
+    assert moving.messages[0].payload == CellItem(0, win.goal)
 
 
 def test_bad_parameters_are_input_errors() -> None:
@@ -481,7 +476,7 @@ def test_a_robot_finishing_sensing_early_in_a_session_joins_it() -> None:
     """§3.4: a robot that finishes sensing no later than T_win after the best session
     began takes part in it (it sends its updates and bids) instead of waiting."""
     robot = ShengBidding(0, 2, bid_time=3)
-    position = Message(POSITION, 1, 0xFFFF, 13, PositionPayload(1, (3, 3)))
+    position = Message(POSITION, 1, 0xFFFF, 13, CellItem(1, (3, 3)))
     # Robot 1's bid, sent at tick 1, arrives at tick 2: the session began at tick 1.
     joined = robot.decide(_view(0, 2, inbox=(position, _bid_from(1, 1000.0))))
     assert robot.state == BIDDING and _types(joined) == [POSITION, BID]

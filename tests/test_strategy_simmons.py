@@ -10,6 +10,7 @@ from mrexplore.checks import check_strategy
 from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, TARGET_BYTES
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
+from mrexplore.planning import disk_mask
 from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.registry import register
 from mrexplore.strategies.simmons import (
@@ -18,7 +19,6 @@ from mrexplore.strategies.simmons import (
     assign_bids,
     bid_value,
     bids_size,
-    disk_mask,
     overlap,
     select_bids,
 )

@@ -180,14 +180,19 @@ def _check_count(n: int, what: str) -> None:
         )
 
 
-def _records_bytes(polygons: tuple[PolygonRecord, ...]) -> int:
-    _check_count(len(polygons), "polygons")
+def _records_bytes(item_counts: list[int], item_bytes: int, items: str) -> int:
+    """Bytes of polygon (or run) records: per record its header and ``item_counts[i]``
+    items of ``item_bytes``; every count must fit its uint16 field."""
+    _check_count(len(item_counts), "polygons")
     total = 0
-    for record in polygons:
-        n = int(record.points.shape[0])
-        _check_count(n, "points in one polygon")
-        total += POLYGON_RECORD_HEADER_BYTES + POLYGON_POINT_BYTES * n
+    for n in item_counts:
+        _check_count(n, f"{items} in one polygon")
+        total += POLYGON_RECORD_HEADER_BYTES + item_bytes * n
     return total
+
+
+def _polygons_bytes(polygons: tuple[PolygonRecord, ...]) -> int:
+    return _records_bytes([int(r.points.shape[0]) for r in polygons], POLYGON_POINT_BYTES, "points")
 
 
 def vanished_points_size(n_points: int) -> int:
@@ -220,12 +225,7 @@ def broken_boundary_size(n_new_points: int, polygons: tuple[PolygonRuns, ...]) -
     51
     """
     _check_count(n_new_points, "new points")
-    _check_count(len(polygons), "polygons")
-    runs = 0
-    for record in polygons:
-        n_runs = int(record.runs.shape[0])
-        _check_count(n_runs, "runs in one polygon")
-        runs += POLYGON_RECORD_HEADER_BYTES + RUN_BYTES * n_runs
+    runs = _records_bytes([int(r.runs.shape[0]) for r in polygons], RUN_BYTES, "runs")
     return (
         HEADER_BYTES
         + SEQ_BYTES
@@ -244,7 +244,7 @@ def resync_size(polygons: tuple[PolygonRecord, ...]) -> int:
     >>> resync_size((PolygonRecord(1, 0, np.zeros((2, 3), dtype=np.int64)),))
     45
     """
-    return HEADER_BYTES + SEQ_BYTES + FLAGS_BYTES + COUNT_BYTES + _records_bytes(polygons)
+    return HEADER_BYTES + SEQ_BYTES + FLAGS_BYTES + COUNT_BYTES + _polygons_bytes(polygons)
 
 
 def emerged_points_size(polygons: tuple[PolygonRecord, ...]) -> int:
@@ -254,7 +254,7 @@ def emerged_points_size(polygons: tuple[PolygonRecord, ...]) -> int:
     >>> emerged_points_size((PolygonRecord(1, 1, np.zeros((1, 3), dtype=np.int64)),))
     32
     """
-    return HEADER_BYTES + SEQ_BYTES + COUNT_BYTES + _records_bytes(polygons)
+    return HEADER_BYTES + SEQ_BYTES + COUNT_BYTES + _polygons_bytes(polygons)
 
 
 def payload_size(package_type: str, payload: Payload) -> int:

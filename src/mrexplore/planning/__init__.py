@@ -5,6 +5,8 @@
 - :mod:`~mrexplore.planning.frontiers`: frontier cells and clusters.
 - :mod:`~mrexplore.planning.gain`: information gain of candidate cells, and the
   information-gain filter of frontier points.
+- :mod:`~mrexplore.planning.paths`: the path to one goal (:func:`path_to`).
+- :mod:`~mrexplore.planning.masks`: cells within a radius of a set of centres.
 - :mod:`~mrexplore.planning.visibility`: the line-of-sight rule shared with
   :mod:`mrexplore.sensing`.
 
@@ -21,6 +23,8 @@ from mrexplore.planning.distance import (
 )
 from mrexplore.planning.frontiers import FrontierCluster, frontier_clusters, frontier_mask
 from mrexplore.planning.gain import filter_by_gain, information_gain
+from mrexplore.planning.masks import disk_mask
+from mrexplore.planning.paths import path_to
 from mrexplore.planning.visibility import bresenham_line, clip_radius, disk_offsets, ray_table
 
 __all__ = [
@@ -29,6 +33,7 @@ __all__ = [
     "UnreachableTargetError",
     "bresenham_line",
     "clip_radius",
+    "disk_mask",
     "disk_offsets",
     "distance_field",
     "extract_path",
@@ -37,5 +42,6 @@ __all__ = [
     "frontier_mask",
     "information_gain",
     "path_length",
+    "path_to",
     "ray_table",
 ]

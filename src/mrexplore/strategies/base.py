@@ -13,11 +13,12 @@ when its belief gained any new cell, or every ``replan_every`` ticks.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Generic, TypeVar, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -29,16 +30,24 @@ from mrexplore.planning import distance_field, extract_path, frontier_mask
 
 Cell = tuple[int, int]
 Path = npt.NDArray[np.int32]
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
-class Param:
+class Param(Generic[T]):
     """One strategy parameter: default, unit, meaning, the paper's symbol and valid range.
+
+    Declared as a class attribute of a strategy, it is also how the strategy reads the
+    value it runs with: ``self.beta`` is the (converted, range-checked) ``beta`` of
+    this robot's strategy object, typed like the default. A class's parameters, in
+    order, are those its body declares, then those of its bases
+    (:attr:`Strategy.params`).
 
     The range is declared with keywords: ``low`` and ``high`` bound numbers
     (inclusive unless ``low_open`` / ``high_open``), ``finite=False`` lets a float
     be infinite (within the bounds; NaN is never valid), ``choices`` lists the
-    values of a text parameter. :meth:`convert` refuses anything outside.
+    values of a text parameter. :meth:`convert` refuses anything outside. The tables
+    in the docs are rendered from these declarations (:mod:`mrexplore.strategies.doc`).
 
     >>> Param(1.0, low=0).describe()
     'a finite number >= 0'
@@ -50,7 +59,7 @@ class Param:
     'an integer >= 1'
     """
 
-    default: Any
+    default: T
     unit: str = ""
     help: str = ""
     symbol: str = ""
@@ -60,6 +69,28 @@ class Param:
     high_open: bool = field(default=False, kw_only=True)
     finite: bool = field(default=True, kw_only=True)
     choices: tuple[str, ...] = field(default=(), kw_only=True)
+    note: str = field(default="", kw_only=True)
+    """The meaning in full for the parameter tables (paper values, our readings); ``help``,
+    the short form that error messages quote, when empty."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        object.__setattr__(self, "_name", name)  # frozen: the name is set once, here
+
+    @overload
+    def __get__(self, strategy: None, owner: type | None = None) -> Param[T]: ...
+    @overload
+    def __get__(self, strategy: object, owner: type | None = None) -> T: ...
+    def __get__(self, strategy: object, owner: type | None = None) -> Param[T] | T:
+        """On a class, the declaration; on a strategy object, the value it runs with."""
+        if strategy is None:
+            return self
+        value: T = strategy.p[self.__dict__["_name"]]  # type: ignore[attr-defined]  # a Strategy
+        return value
+
+    def with_default(self, default: T) -> Param[T]:
+        """The same parameter with another default (a strategy that departs from a
+        shared rule)."""
+        return dataclasses.replace(self, default=default)
 
     def describe(self) -> str:
         """The valid values in words: ``'an integer >= 0'``, ``'one of grid, rrt'``, ..."""
@@ -122,7 +153,7 @@ class Param:
 
     def _to_kind(self, value: Any) -> Any:
         """``value`` as the default's type, or ``None`` if it does not convert."""
-        kind = type(self.default)
+        kind: type[Any] = type(self.default)
         if isinstance(value, kind) and not (kind is int and isinstance(value, bool)):
             return value
         try:
@@ -155,13 +186,37 @@ def _bound(value: float | None) -> str:
     return "" if value is None else f"{value:g}"
 
 
-REPLAN_PARAMS: dict[str, Param] = {
-    "replan_every": Param(0, "ticks", "also re-plan every k ticks (0 = never)", low=0),
-    "replan_on_new_info": Param(False, "", "re-plan whenever the belief gained new cells"),
-    "replan_on_target_explored": Param(
+class ReplanRules:
+    """The re-planning rules every frontier strategy declares (a parameter group).
+
+    A robot always plans when it has no goal, has arrived or was blocked; these add
+    the other occasions.
+    """
+
+    replan_every = Param(0, "ticks", "also re-plan every k ticks (0 = never)", low=0)
+    replan_on_new_info = Param(False, "", "re-plan whenever the belief gained new cells")
+    replan_on_target_explored = Param(
         True, "", "re-plan when the goal is no longer a frontier cell"
-    ),
-}
+    )
+
+
+def declared_params(cls: type) -> dict[str, Param[Any]]:
+    """The parameters declared as class attributes of ``cls`` and its bases: its own
+    first, in the order of its body, then each base's in method resolution order.
+
+    >>> list(declared_params(ReplanRules))
+    ['replan_every', 'replan_on_new_info', 'replan_on_target_explored']
+    """
+    found: dict[str, Param[Any]] = {}
+    for klass in cls.__mro__:
+        for name, value in vars(klass).items():
+            if isinstance(value, Param) and name not in found:
+                found[name] = value
+    return found
+
+
+REPLAN_PARAMS: dict[str, Param[Any]] = declared_params(ReplanRules)
+"""The re-planning rules by name (:class:`ReplanRules`)."""
 
 
 @dataclass(frozen=True)
@@ -219,16 +274,24 @@ class Decision:
 class Strategy(ABC):
     """Base class of every coordination strategy.
 
-    Subclasses set ``id``, ``summary``, ``citation`` and ``params``, and
-    implement :meth:`decide`.
+    Subclasses set ``id``, ``summary`` and ``citation``, declare their parameters as
+    class attributes (:class:`Param`), and implement :meth:`decide`.
     """
 
     id: ClassVar[str] = ""
     summary: ClassVar[str] = ""
     citation: ClassVar[str] = ""
-    params: ClassVar[Mapping[str, Param]] = {}
+    params: ClassVar[Mapping[str, Param[Any]]] = {}
+    """Every parameter by name: the :class:`Param` class attributes of the class and
+    its bases (:func:`declared_params`), set when the class is created. A class may
+    instead give the mapping itself (``params = {...}``, the older form)."""
     default_sharing: ClassVar[str] = "full"
     """Map-sharing mechanism used when the scenario does not name one."""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if "params" not in vars(cls):
+            cls.params = declared_params(cls)
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         self.robot_id = robot_id
@@ -259,13 +322,11 @@ def passable(belief: BeliefGrid) -> npt.NDArray[np.bool_]:
     return np.asarray(belief == FREE)
 
 
-class FrontierStrategy(Strategy):
+class FrontierStrategy(Strategy, ReplanRules):
     """A strategy that sends each robot to a frontier cell of its own belief.
 
     Handles the re-planning rules; subclasses implement :meth:`choose_goal`.
     """
-
-    params: ClassVar[Mapping[str, Param]] = REPLAN_PARAMS
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -278,12 +339,12 @@ class FrontierStrategy(Strategy):
         """Whether the re-planning rules ask for a new goal at this tick."""
         if view.goal is None or view.arrived or view.blocked:
             return True
-        every = int(self.p["replan_every"])
+        every = self.replan_every
         if every > 0 and view.tick - self.last_plan_tick >= every:
             return True
-        if self.p["replan_on_new_info"] and view.new_cells > 0:
+        if self.replan_on_new_info and view.new_cells > 0:
             return True
-        if self.p["replan_on_target_explored"]:
+        if self.replan_on_target_explored:
             row, col = view.goal
             return not bool(frontier_at(view.belief, row, col))
         return False

@@ -20,37 +20,30 @@ again (Meier et al. §5.1: "Only a centralized coordination technique has the
 ability to choose that robot-target tuple that provides the (globally) highest
 expected utility").
 
-Parameters:
+Parameters (rendered from ``Burgard.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ==========  =======  =====  ======================================
-name                           symbol      default  unit   meaning
-=============================  ==========  =======  =====  ======================================
-``beta``                       beta        1.0      -      weight of cost against utility
-``max_range``                  max_range   0.0      cells  discount radius of P(d); 0 = the
-                                                           robot's sensor range
-``normalize_cost``             -           True     -      divide V_t^i by robot i's largest
-                                                           finite V over the targets (see notes)
-``assign``                     -           team     -      ``team``: every robot of the
-                                                           sub-network is re-assigned when one
-                                                           needs a goal; ``requesting``: only
-                                                           the robots that asked
-``visibility_discount``        -           True     -      discount only targets in line of
-                                                           sight of t; False: all within
-                                                           max_range
-``status_period``              -           1        ticks  with ``assign=team``, each robot
-                                                           reports its position this often
-``protocol``                   -           positions -     ``positions``: the coordinator
-                                                           plans on its map from reported
-                                                           positions; ``bids``: robots send
-                                                           their costs (see below)
-``request_timeout``            -           5        ticks  resend a goal request if no
-                                                           assignment came back
-``coordinator_timeout``        -           0        ticks  plan alone after waiting this long
-                                                           for a goal; 0 = 3 x request_timeout
-``block_limit``                -           2        -      give up a target after this many
-                                                           blocks on it in a row; 0 = never
-``replan_*``                   -                           see :data:`REPLAN_PARAMS`
-=============================  ==========  =======  =====  ======================================
+.. params:begin burgard
+
+===================  ======  =========  =====  =====================================================
+name                 symbol  default    unit   meaning
+===================  ======  =========  =====  =====================================================
+``assign``           -       team       -      whenever a robot needs a goal, re-assign the whole
+                                               team (`team`), or only the robots that asked
+                                               (`requesting`, our earlier version)
+``status_period``    -       1          ticks  with assign=team, each robot reports its position
+                                               this often
+``protocol``         -       positions  -      `positions`: the coordinator computes every cost on
+                                               its map from reported positions (Burgard et al.);
+                                               `bids`: every robot sends its costs to the frontier
+                                               cells it can reach (the market paper's description of
+                                               [3])
+``request_timeout``  -       5          ticks  resend a goal request if no assignment came
+UtilityDiscounting   -                         shared: ``strategies.utility``
+ReplanRules          -                         shared: ``strategies.base``
+FallbackRules        -                         shared: ``strategies.fallback``
+===================  ======  =========  =====  =====================================================
+
+.. params:end
 
 Interpretations (where the sources are silent):
 
@@ -115,48 +108,27 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BID_BYTES, BROADCAST, STATUS_BYTES, TARGET_BYTES, fixed_size
-from mrexplore.comm.messages import ASSIGN, BID, STATUS, Message
+from mrexplore.comm.bytes import BID_BYTES, BROADCAST, STATUS_BYTES, fixed_size
+from mrexplore.comm.messages import BID, STATUS, Message, StatusItem, item_message
 from mrexplore.grid.occupancy import OCCUPIED
-from mrexplore.planning import distance_field, extract_path, frontier_mask
-from mrexplore.sensing import visible_cells_flat
-from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
-    Cell,
-    Decision,
-    FrontierStrategy,
-    Param,
-    RobotView,
-    passable,
-)
-from mrexplore.strategies.fallback import (
-    FALLBACK_PARAMS,
-    BlockedTargets,
-    CoordinatorWatch,
-    coordinator_timeout,
-)
+from mrexplore.planning import distance_field, frontier_mask
+from mrexplore.strategies.base import Cell, Decision, Param, RobotView, passable
+from mrexplore.strategies.coordinated import CoordinatedWithFallback
+from mrexplore.strategies.utility import UtilityDiscounting, coverage_probability, discount
 
-
-@dataclass(frozen=True, slots=True)
-class StatusPayload:
-    """A robot's position and whether it needs a goal."""
-
-    robot: int
-    position: Cell
-    needs_goal: bool
-
-
-@dataclass(frozen=True, slots=True)
-class AssignPayload:
-    """A goal assigned to a robot by the coordinator."""
-
-    robot: int
-    goal: Cell
+__all__ = [
+    "BID_CALL",
+    "BidsPayload",
+    "Burgard",
+    "assign_greedy",
+    "bids_size",
+    "coverage_probability",
+    "discount",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -184,36 +156,6 @@ def bids_size(n_bids: int) -> int:
     (15, 115)
     """
     return fixed_size(STATUS_BYTES) + n_bids * BID_BYTES
-
-
-def coverage_probability(distance: npt.NDArray[np.float64], max_range: float) -> np.ndarray:
-    """Meier et al. eq. (1): P(d) = 1 - d / max_range for d < max_range, else 0."""
-    return np.where(distance < max_range, 1.0 - distance / max_range, 0.0)
-
-
-def discount(
-    utility: npt.NDArray[np.float64],
-    target_rows: npt.NDArray[np.int64],
-    target_cols: npt.NDArray[np.int64],
-    goal: Cell,
-    max_range: float,
-    occupied: npt.NDArray[np.bool_] | None = None,
-) -> None:
-    """Reduce the utility of every target near ``goal`` by P(||t - goal||), in place.
-
-    With ``occupied`` (the planner's map, ``True`` where a cell is known to block
-    sight) only the targets in the visibility area of ``goal`` are reduced (Meier et
-    al. Algorithm 1 step 5: "Reduce the utility of each target point t' in the
-    visibility area"): those in line of sight of ``goal`` within ``max_range``
-    (:mod:`mrexplore.planning.visibility`; unknown cells do not block sight).
-    """
-    d = np.hypot(target_rows - goal[0], target_cols - goal[1])
-    reduction = coverage_probability(d, max_range)
-    if occupied is not None and reduction.any():
-        seen = np.zeros(occupied.size, dtype=bool)
-        seen[visible_cells_flat(occupied, goal, max_range)] = True
-        reduction = np.where(seen[target_rows * occupied.shape[1] + target_cols], reduction, 0.0)
-    utility -= reduction
 
 
 def assign_greedy(
@@ -281,84 +223,69 @@ def assign_greedy(
     return assigned
 
 
-class Burgard(FrontierStrategy):
+class Burgard(UtilityDiscounting, CoordinatedWithFallback):
     """Burgard et al. 2005, run by the lowest-id robot of each sub-network."""
 
     id = "burgard"
     summary = "Burgard et al. 2005: utility discounting, central greedy assignment"
     citation = "W. Burgard et al., Coordinated multi-robot exploration, IEEE T-RO 21(3), 2005"
-    params: ClassVar[Mapping[str, Param]] = {
-        "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
-        "max_range": Param(
-            0.0, "cells", "discount radius of P(d); 0 = sensor range", "max_range", low=0
+    assign = Param(
+        "team",
+        "",
+        "whenever a robot needs a goal, assign the whole team, or only those that asked",
+        choices=("team", "requesting"),
+        note=(
+            "whenever a robot needs a goal, re-assign the whole team (`team`), or "
+            "only the robots that asked (`requesting`, our earlier version)"
         ),
-        "normalize_cost": Param(True, "", "scale each robot's costs to [0, 1]"),
-        "assign": Param(
-            "team",
-            "",
-            "whenever a robot needs a goal, assign the whole team, or only those that asked",
-            choices=("team", "requesting"),
+    )
+    status_period = Param(
+        1, "ticks", "with assign=team, each robot reports its position this often", low=1
+    )
+    protocol = Param(
+        "positions",
+        "",
+        "positions: the coordinator plans on its map from reported positions; bids: "
+        "every robot sends its costs to every frontier cell (the market paper's [3])",
+        choices=("positions", "bids"),
+        note=(
+            "`positions`: the coordinator computes every cost on its map from "
+            "reported positions (Burgard et al.); `bids`: every robot sends its "
+            "costs to the frontier cells it can reach (the market paper's "
+            "description of [3])"
         ),
-        "visibility_discount": Param(
-            True, "", "discount only targets in line of sight of a goal (its visibility area)"
-        ),
-        "status_period": Param(
-            1, "ticks", "with assign=team, each robot reports its position this often", low=1
-        ),
-        "protocol": Param(
-            "positions",
-            "",
-            "positions: the coordinator plans on its map from reported positions; bids: "
-            "every robot sends its costs to every frontier cell (the market paper's [3])",
-            choices=("positions", "bids"),
-        ),
-        "request_timeout": Param(5, "ticks", "resend a goal request after this many ticks", low=1),
-        **FALLBACK_PARAMS,
-        **REPLAN_PARAMS,
-    }
+    )
+    request_timeout = Param(
+        5,
+        "ticks",
+        "resend a goal request after this many ticks",
+        low=1,
+        note="resend a goal request if no assignment came",
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
         # Coordinator state: what it knows of the robots of its sub-network.
         self.known_positions: dict[int, Cell] = {}
-        self.held_goals: dict[int, Cell] = {}
         self.requests: set[int] = set()
         self.bids: dict[int, BidsPayload] = {}  # protocol=bids: this round's, by robot
         self.round_opened: int | None = None  # protocol=bids: tick the call went out
-        # Member state: when the last request and the last report went out.
-        self.requested_at = -1
+        # Member state: when the last report went out.
         self.reported_at = -(10**9)
-        # Our rules for lossy links and blocked targets (mrexplore.strategies.fallback).
-        self.watch = CoordinatorWatch()
-        self.blocked_targets = BlockedTargets(int(self.p["block_limit"]))
 
-    def decide(self, view: RobotView) -> Decision:
-        self.blocked_targets.observe(view)
-        decision = self._decide(view)
-        self.blocked_targets.decided(view, decision)
-        return decision
-
-    def _coordinator_timeout(self) -> int:
-        return coordinator_timeout(
-            int(self.p["coordinator_timeout"]), int(self.p["request_timeout"])
-        )
-
-    def _decide(self, view: RobotView) -> Decision:
-        coordinator = min(view.subnetwork)
-        assignment: Cell | None = None
+    def decide_coordinated(self, view: RobotView) -> Decision:
+        coordinator = self.coordinator(view)
+        assignment = self.assignment(view)
         called = False
         for message in view.inbox:
             payload = message.payload
-            if isinstance(payload, StatusPayload | BidsPayload):
+            if isinstance(payload, StatusItem | BidsPayload):
                 self.known_positions[payload.robot] = payload.position
                 if isinstance(payload, BidsPayload):
                     self.bids[payload.robot] = payload
                 if payload.needs_goal:
                     self.requests.add(payload.robot)
                     self.held_goals.pop(payload.robot, None)
-            elif message.type == ASSIGN and isinstance(payload, AssignPayload):
-                if payload.robot == self.robot_id:
-                    assignment = payload.goal
             elif message.type == BID_CALL:
                 called = message.sender == coordinator
 
@@ -370,7 +297,7 @@ class Burgard(FrontierStrategy):
         if called:  # protocol=bids: the coordinator opened a round
             decision.messages.append(self._report(view, coordinator, needs_goal=needs_goal))
         if assignment is not None:
-            decision = self._follow(view, assignment)
+            decision = self.follow(view, assignment)
             if decision.goal is not None:
                 self.requested_at = -1
                 self.watch.stop()
@@ -378,18 +305,14 @@ class Burgard(FrontierStrategy):
             needs_goal = True
         if not needs_goal:
             self.watch.stop()
-            team = self.p["assign"] == "team" and self.p["protocol"] == "positions"
-            if team and view.tick - self.reported_at >= int(self.p["status_period"]):
+            team = self.assign == "team" and self.protocol == "positions"
+            if team and view.tick - self.reported_at >= self.status_period:
                 decision.messages.append(self._status(view, coordinator, needs_goal=False))
             return decision
-        self.watch.wait(view.tick)
-        if self.watch.expired(view.tick, self._coordinator_timeout()):
-            own = self._plan_alone(view)
-            self.watch.acted_alone(view.tick, own.goal is not None)
-            if own.goal is not None:
-                self.requested_at = -1
-                return own
-        if self.requested_at < 0 or view.tick - self.requested_at >= self.p["request_timeout"]:
+        own = self.fall_back(view, self.request_timeout)
+        if own is not None:
+            return own
+        if self.requested_at < 0 or view.tick - self.requested_at >= self.request_timeout:
             self.requested_at = view.tick
             if not called:
                 decision.messages.append(self._report(view, coordinator, needs_goal=True))
@@ -397,7 +320,7 @@ class Burgard(FrontierStrategy):
 
     def _report(self, view: RobotView, coordinator: int, *, needs_goal: bool) -> Message:
         """``status`` (``protocol=positions``), or this robot's bids (``bids``)."""
-        if self.p["protocol"] == "positions":
+        if self.protocol == "positions":
             return self._status(view, coordinator, needs_goal=needs_goal)
         frontier = frontier_mask(view.belief)
         dist = distance_field(passable(view.belief), view.position, targets=frontier)
@@ -413,22 +336,10 @@ class Burgard(FrontierStrategy):
     def _status(self, view: RobotView, coordinator: int, *, needs_goal: bool) -> Message:
         """This robot's position for the coordinator, and whether it needs a goal."""
         self.reported_at = view.tick
-        status = StatusPayload(self.robot_id, view.position, needs_goal)
-        return Message(STATUS, self.robot_id, coordinator, fixed_size(STATUS_BYTES), status)
+        status = StatusItem(self.robot_id, view.position, needs_goal)
+        return item_message(STATUS, self.robot_id, coordinator, status)
 
-    def _follow(self, view: RobotView, goal: Cell) -> Decision:
-        """Adopt an assigned goal, planning the path on this robot's own belief."""
-        if goal == view.position or not self.blocked_targets.allows(goal):
-            return Decision()
-        only_goal = np.zeros(view.belief.shape, dtype=bool)
-        only_goal[goal] = True
-        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
-        if not np.isfinite(dist[goal]):
-            return Decision()
-        self.last_plan_tick = view.tick
-        return Decision(goal=goal, path=extract_path(dist, goal))
-
-    def _plan_alone(self, view: RobotView) -> Decision:
+    def plan_alone(self, view: RobotView) -> Decision:
         """The method for a team of one: this robot, its own belief, no other goals."""
         frontier = frontier_mask(view.belief)
         while True:
@@ -438,15 +349,15 @@ class Burgard(FrontierStrategy):
                 {},
                 passable(view.belief),
                 frontier,
-                beta=float(self.p["beta"]),
-                max_range=float(self.p["max_range"]) or view.sensor_range,
-                normalize_cost=bool(self.p["normalize_cost"]),
+                beta=self.beta,
+                max_range=self.max_range or view.sensor_range,
+                normalize_cost=self.normalize_cost,
                 unreachable={self.robot_id: self.blocked_targets.excluded},
-                occupied=view.belief == OCCUPIED if self.p["visibility_discount"] else None,
+                occupied=view.belief == OCCUPIED if self.visibility_discount else None,
             )
             goal = assigned.get(self.robot_id)
             if goal is not None:
-                return self._follow(view, goal)
+                return self.follow(view, goal)
             if not self.blocked_targets.forget():
                 return Decision()
 
@@ -457,7 +368,7 @@ class Burgard(FrontierStrategy):
         members = view.subnetwork
         self.known_positions[self.robot_id] = view.position
         self.requests &= members
-        self.held_goals = {r: g for r, g in self.held_goals.items() if r in members}
+        self.keep_members(members)
         if needs_goal:
             self.requests.add(self.robot_id)
             self.held_goals.pop(self.robot_id, None)
@@ -466,37 +377,37 @@ class Burgard(FrontierStrategy):
         if not self.requests:
             return Decision()
         frontier = frontier_mask(view.belief)
-        chosen = members if self.p["assign"] == "team" else self.requests
+        chosen = members if self.assign == "team" else self.requests
         robots = sorted(r for r in chosen if r in self.known_positions)
         bids: dict[int, BidsPayload] | None = None
-        if self.p["protocol"] == "bids":
+        if self.protocol == "bids":
             # The market paper's [3]: "every robot constructs its bids and sends them to
             # a central executive". A round opens with a call to the team; it is decided
             # once every robot chosen has bid, or after request_timeout ticks.
             if self.round_opened is None:
                 self.round_opened = view.tick
                 self.bids = {r: b for r, b in self.bids.items() if r in self.requests}
-                if self.p["assign"] == "team" and len(members) > 1:
+                if self.assign == "team" and len(members) > 1:
                     call = Message(BID_CALL, self.robot_id, BROADCAST, fixed_size(0), None)
                     return Decision(messages=[call])
-            late = view.tick - self.round_opened >= int(self.p["request_timeout"])
+            late = view.tick - self.round_opened >= self.request_timeout
             if not late and any(r not in self.bids for r in chosen - {self.robot_id}):
                 return Decision()
             bids = {r: b for r, b in self.bids.items() if r in chosen}
             robots = sorted({self.robot_id} & chosen | set(bids))
             self.round_opened, self.bids = None, {}
             self.requests -= set(bids)  # served or not, a robot still in need asks again
-        max_range = float(self.p["max_range"]) or view.sensor_range
-        occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
+        max_range = self.max_range or view.sensor_range
+        occupied = view.belief == OCCUPIED if self.visibility_discount else None
         assigned = assign_greedy(
             robots,
             self.known_positions,
             {r: g for r, g in self.held_goals.items() if r not in robots},
             passable(view.belief),
             frontier,
-            beta=float(self.p["beta"]),
+            beta=self.beta,
             max_range=max_range,
-            normalize_cost=bool(self.p["normalize_cost"]),
+            normalize_cost=self.normalize_cost,
             unreachable={self.robot_id: self.blocked_targets.excluded},
             occupied=occupied,
             bids=bids,
@@ -508,14 +419,7 @@ class Burgard(FrontierStrategy):
             self.requests.discard(robot)
             if unchanged:  # re-assigned the goal it holds: nothing to say
                 continue
-            if robot == self.robot_id:
-                own = self._follow(view, goal)
-                decision.goal, decision.path = own.goal, own.path
-            else:
-                payload = AssignPayload(robot, goal)
-                decision.messages.append(
-                    Message(ASSIGN, self.robot_id, robot, fixed_size(TARGET_BYTES), payload)
-                )
+            self.hand_out(view, decision, robot, goal)
         if self.robot_id in self.requests:  # nothing reachable for the coordinator
             self.blocked_targets.forget()  # try the targets it gave up on again
             self.requests.discard(self.robot_id)

@@ -24,20 +24,38 @@ beside the paper's text, with their parameters.
 
 from __future__ import annotations
 
-from mrexplore.strategies.base import Cell, Decision, Param, RobotView
+from typing import Any
 
-FALLBACK_PARAMS: dict[str, Param] = {
-    "coordinator_timeout": Param(
+from mrexplore.strategies.base import Cell, Decision, Param, RobotView, declared_params
+
+
+class FallbackRules:
+    """The parameters of the two rules (a parameter group), for every strategy that uses them."""
+
+    coordinator_timeout = Param(
         0,
         "ticks",
         "plan alone after waiting this long for a goal; 0 = 3 x request_timeout",
         low=0,
-    ),
-    "block_limit": Param(
-        2, "", "give up a target after this many blocks in a row; 0 = never", low=0
-    ),
-}
-"""The parameters of the two rules, for every strategy that uses them."""
+        note=(
+            "a robot that waited this long for a goal it can follow plans alone "
+            "(ours, see below); 0 = 3 x `request_timeout`"
+        ),
+    )
+    block_limit = Param(
+        2,
+        "",
+        "give up a target after this many blocks in a row; 0 = never",
+        low=0,
+        note=(
+            "a target the robot was blocked on this many times in a row counts as "
+            "unreachable for it (ours, see below; 0 = never)"
+        ),
+    )
+
+
+FALLBACK_PARAMS: dict[str, Param[Any]] = declared_params(FallbackRules)
+"""The parameters of the two rules by name (:class:`FallbackRules`)."""
 
 TIMEOUT_REQUESTS = 3
 """``coordinator_timeout = 0`` means this many request periods (``request_timeout``):

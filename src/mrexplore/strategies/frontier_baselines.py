@@ -11,27 +11,47 @@
     (shortest path over cells it knows to be free). No coordination: robots
     only share their maps.
 
-Parameters (both):
+Parameters (rendered from the classes' ``params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ===========  =======  =====  ====================================
-name                           paper        default  unit   meaning
-=============================  ===========  =======  =====  ====================================
-``min_frontier_size``          (Yamauchi:   1        cells  ignore frontier clusters (8-connected)
-                               "minimum                      smaller than this; falls back to all
-                               size")                        frontier cells if none is big enough
-``replan_every``               -            0        ticks  also re-plan every k ticks (0 = never)
-``replan_on_new_info``         -            False           re-plan on any new cell
-``replan_on_target_explored``  -            True /          re-plan when the goal stops being a
-                                           False            frontier cell (nearest / random)
-=============================  ===========  =======  =====  ====================================
+``nearest-frontier``:
+
+.. params:begin nearest-frontier
+
+=====================  ======  =======  =====  =====================================================
+name                   symbol  default  unit   meaning
+=====================  ======  =======  =====  =====================================================
+``min_frontier_size``  -       1        cells  ignore 8-connected frontier clusters smaller than
+                                               this (Yamauchi's minimum region size); all frontier
+                                               cells are used if none is big enough
+ReplanRules            -                       shared: ``strategies.base``
+=====================  ======  =======  =====  =====================================================
+
+.. params:end
+
+``random-frontier``:
+
+.. params:begin random-frontier
+
+=============================  ======  =======  =====  =============================================
+name                           symbol  default  unit   meaning
+=============================  ======  =======  =====  =============================================
+``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
+                                                       cell
+``min_frontier_size``          -       1        cells  ignore 8-connected frontier clusters smaller
+                                                       than this (Yamauchi's minimum region size);
+                                                       all frontier cells are used if none is big
+                                                       enough
+ReplanRules                    -                       shared: ``strategies.base``
+=============================  ======  =======  =====  =============================================
+
+.. params:end
 
 Messages: none of their own; maps travel through the run's map-sharing mechanism.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -39,19 +59,14 @@ import numpy.typing as npt
 from mrexplore.planning import frontier_clusters
 from mrexplore.planning.frontier_search import nearest_frontier
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     FrontierStrategy,
     Param,
+    ReplanRules,
     RobotView,
     reachable_frontier_cells,
 )
-
-_FRONTIER_PARAMS: dict[str, Param] = {
-    "min_frontier_size": Param(1, "cells", "ignore frontier clusters smaller than this", low=1),
-    **REPLAN_PARAMS,
-}
 
 
 def _large_clusters_only(frontier: npt.NDArray[np.bool_], min_size: int) -> npt.NDArray[np.bool_]:
@@ -65,17 +80,49 @@ def _large_clusters_only(frontier: npt.NDArray[np.bool_], min_size: int) -> npt.
     return kept if kept.any() else frontier
 
 
-class NearestFrontier(FrontierStrategy):
+class _FrontierBaseline(FrontierStrategy):
+    """What both baselines share: the candidates, the reachable frontier cells of
+    clusters of at least ``min_frontier_size`` cells (every reachable frontier cell if
+    none of those is reachable); each baseline picks one of them by :meth:`pick`."""
+
+    min_frontier_size = Param(
+        1,
+        "cells",
+        "ignore frontier clusters smaller than this",
+        low=1,
+        note=(
+            "ignore 8-connected frontier clusters smaller than this (Yamauchi's minimum "
+            "region size); all frontier cells are used if none is big enough"
+        ),
+    )
+
+    def choose_goal(
+        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
+    ) -> Cell | None:
+        targets = _large_clusters_only(frontier, self.min_frontier_size)
+        rows, cols = reachable_frontier_cells(targets, dist)
+        if rows.size == 0 and targets is not frontier:
+            rows, cols = reachable_frontier_cells(frontier, dist)
+        if rows.size == 0:
+            return None
+        index = self.pick(view, dist[rows, cols])
+        return int(rows[index]), int(cols[index])
+
+    def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
+        """Index of the chosen candidate, given their path costs (cells) in raster order."""
+        raise NotImplementedError
+
+
+class NearestFrontier(_FrontierBaseline):
     """Yamauchi (1998): go to the closest reachable frontier cell."""
 
     id = "nearest-frontier"
     summary = "Yamauchi 1998: each robot goes to its closest frontier, no coordination"
     citation = "B. Yamauchi, Frontier-based exploration using multiple robots, Agents 1998"
-    params: ClassVar[Mapping[str, Param]] = _FRONTIER_PARAMS
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
-        self.nearest_only = int(self.p["min_frontier_size"]) <= 1
+        self.nearest_only = self.min_frontier_size <= 1
 
     def decide(self, view: RobotView) -> Decision:
         if not self.nearest_only:
@@ -91,20 +138,11 @@ class NearestFrontier(FrontierStrategy):
         goal, path = found
         return Decision(goal=goal, path=path)
 
-    def choose_goal(
-        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
-    ) -> Cell | None:
-        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
-        rows, cols = reachable_frontier_cells(targets, dist)
-        if rows.size == 0 and targets is not frontier:
-            rows, cols = reachable_frontier_cells(frontier, dist)
-        if rows.size == 0:
-            return None
-        best = int(np.argmin(dist[rows, cols]))  # first in raster order among ties
-        return int(rows[best]), int(cols[best])
+    def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
+        return int(np.argmin(costs))  # first in raster order among ties
 
 
-class RandomFrontier(FrontierStrategy):
+class RandomFrontier(_FrontierBaseline):
     """Sheng et al. (2006) case (1): a uniformly random reachable frontier cell.
 
     Unlike ``nearest-frontier``, a robot keeps its random goal until it arrives
@@ -116,21 +154,7 @@ class RandomFrontier(FrontierStrategy):
     id = "random-frontier"
     summary = "each robot picks a random reachable frontier cell (Sheng 2006 §5 case 1)"
     citation = "W. Sheng et al., Robotics and Autonomous Systems 54 (2006), §5 case (1)"
-    params: ClassVar[Mapping[str, Param]] = {
-        **_FRONTIER_PARAMS,
-        "replan_on_target_explored": Param(
-            False, "", "re-plan when the goal is no longer a frontier cell"
-        ),
-    }
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
-    def choose_goal(
-        self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
-    ) -> Cell | None:
-        targets = _large_clusters_only(frontier, int(self.p["min_frontier_size"]))
-        rows, cols = reachable_frontier_cells(targets, dist)
-        if rows.size == 0 and targets is not frontier:
-            rows, cols = reachable_frontier_cells(frontier, dist)
-        if rows.size == 0:
-            return None
-        pick = int(view.rng.integers(rows.size))
-        return int(rows[pick]), int(cols[pick])
+    def pick(self, view: RobotView, costs: npt.NDArray[np.float64]) -> int:
+        return int(view.rng.integers(costs.size))

@@ -49,36 +49,36 @@ belief:
    a new goal for another reason, see the re-planning rules); then a new round
    re-decides every robot.
 
-Parameters:
+Parameters (rendered from ``Kme.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ======  =======  =====  =========================================
+.. params:begin kme
+
+=============================  ======  =======  =====  =============================================
 name                           symbol  default  unit   meaning
-=============================  ======  =======  =====  =========================================
-``v``                          v       0.0      cells  penalty rho2 for a frontier another robot
-                                                       chose; 0 = the map diagonal ``l``
-``fm_spacing``                 -       0.0      cells  least distance between two frontiers of
-                                                       FM; 0 = the sensor range (paper)
-``fm_order``                   -       nearest  -      order of the greedy FM choice: nearest
+=============================  ======  =======  =====  =============================================
+``v``                          v       0.0      cells  penalty rho2 for a frontier already chosen by
+                                                       another robot; 0 = `l`
+``fm_spacing``                 -       0.0      cells  least distance between two frontiers of FM
+                                                       (paper: the sensor range); 0 = sensor range
+``fm_order``                   -       nearest  -      order of the greedy FM choice: `nearest`
                                                        (path cost from the closest robot),
-                                                       clusters, raster
+                                                       `clusters` (cluster representatives by size,
+                                                       then raster), `raster`
 ``max_points``                 -       3000     cells  unknown cells K-Means runs on (random
-                                                       subsample; the rest join the nearest
-                                                       centroid)
-``kmeans_iterations``          -       20       -      most Lloyd iterations per round (stops
-                                                       earlier when the labels settle)
-``round_timeout``              -       0        ticks  the coordinator decides with the positions
-                                                       it has after this long; 0 = 2 x latency x
-                                                       hops + 1
-``request_timeout``            -       0        ticks  a robot re-sends its request when no goal
-                                                       came back; 0 = 2 x round_timeout + 2
-``coordinator_timeout``        -       0        ticks  a robot plans alone after waiting this
-                                                       long for a goal; 0 = 3 x request_timeout
-``block_limit``                -       2        -      give up a target after this many blocks
-                                                       on it in a row; 0 = never
-``replan_on_target_explored``  -       False    -      also start a round once a target is
-                                                       explored (default: on arrival, step 11)
-``replan_*``                   -                       see :data:`REPLAN_PARAMS`
-=============================  ======  =======  =====  =========================================
+                                                       subsample)
+``kmeans_iterations``          -       20       -      most Lloyd iterations per round (stops when
+                                                       labels settle)
+``round_timeout``              -       0        ticks  the coordinator decides with the positions it
+                                                       has after this; 0 = 2 x latency x hops + 1
+``request_timeout``            -       0        ticks  re-send a request that brought no target; 0 =
+                                                       2 x round_timeout + 2
+``replan_on_target_explored``  -       false    -      re-plan when the goal is no longer a frontier
+                                                       cell
+ReplanRules                    -                       shared: ``strategies.base``
+FallbackRules                  -                       shared: ``strategies.fallback``
+=============================  ======  =======  =====  =============================================
+
+.. params:end
 
 ``l`` is the diagonal of the map, ``hypot(height, width)`` cells.
 
@@ -163,39 +163,23 @@ Interpretations (where the paper is silent or does not fit a grid simulator):
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 import numba
 import numpy as np
 import numpy.typing as npt
 from scipy.optimize import linear_sum_assignment
 
-from mrexplore.comm.bytes import BROADCAST, STATUS_BYTES, TARGET_BYTES, fixed_size
-from mrexplore.comm.messages import ASSIGN, STATUS, Message
-from mrexplore.errors import ScenarioError
+from mrexplore.comm.bytes import BROADCAST
+from mrexplore.comm.messages import STATUS, StatusItem, item_message
 from mrexplore.grid.occupancy import OCCUPIED, UNKNOWN, BeliefGrid
-from mrexplore.planning import distance_field, extract_path, frontier_clusters, frontier_mask
+from mrexplore.planning import distance_field, frontier_clusters, frontier_mask
 from mrexplore.planning.visibility import is_visible_kernel
-from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
-    Cell,
-    Decision,
-    FrontierStrategy,
-    Param,
-    RobotView,
-    passable,
-)
-from mrexplore.strategies.fallback import (
-    FALLBACK_PARAMS,
-    BlockedTargets,
-    CoordinatorWatch,
-    coordinator_timeout,
-)
+from mrexplore.strategies.base import Cell, Decision, Param, ReplanRules, RobotView, passable
+from mrexplore.strategies.coordinated import CoordinatedWithFallback
+from mrexplore.strategies.network import request_timeout, round_timeout
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -203,24 +187,6 @@ BoolArray = npt.NDArray[np.bool_]
 
 # 4-neighbour offsets in a fixed order: N, S, W, E.
 _NEIGHBOURS = ((-1, 0), (1, 0), (0, -1), (0, 1))
-
-
-# ---------------------------------------------------------------- messages
-@dataclass(frozen=True, slots=True)
-class StatusPayload:
-    """A robot's position; ``needs_goal`` marks a request that opens a round."""
-
-    robot: int
-    position: Cell
-    needs_goal: bool
-
-
-@dataclass(frozen=True, slots=True)
-class AssignPayload:
-    """A target sent by the coordinator to one robot."""
-
-    robot: int
-    goal: Cell
 
 
 # ---------------------------------------------------------------- §IV.A K-Means
@@ -790,26 +756,7 @@ def kme_round(
 
 
 # ---------------------------------------------------------------- the strategy
-def hops_from(source: int, members: Iterable[int], links: Iterable[tuple[int, int]]) -> int:
-    """Largest hop count from ``source`` to a member of its sub-network (0 when alone)."""
-    neighbours: dict[int, list[int]] = {m: [] for m in members}
-    for a, b in links:
-        if a in neighbours and b in neighbours:
-            neighbours[a].append(b)
-            neighbours[b].append(a)
-    depth = {source: 0}
-    queue = deque([source])
-    while queue:
-        here = queue.popleft()
-        for other in neighbours.get(here, []):
-            if other not in depth:
-                depth[other] = depth[here] + 1
-                queue.append(other)
-    unreached = len(neighbours) - len(depth)
-    return max(depth.values()) + unreached  # unknown topology: assume a chain
-
-
-class Kme(FrontierStrategy):
+class Kme(CoordinatedWithFallback):
     """Wu, Puig & Garcia's KME, run by the lowest-id robot of each sub-network."""
 
     id = "kme"
@@ -818,94 +765,102 @@ class Kme(FrontierStrategy):
         "L. Wu, D. Puig, M. A. Garcia, Balanced multi-robot exploration through a global "
         "optimization strategy (§IV, eqs. 1-7)"
     )
-    params: ClassVar[Mapping[str, Param]] = {
-        "v": Param(
-            0.0, "cells", "penalty rho2 for a frontier chosen by another robot; 0 = l", "v", low=0
+    v = Param(
+        0.0,
+        "cells",
+        "penalty rho2 for a frontier chosen by another robot; 0 = l",
+        "v",
+        low=0,
+        note="penalty rho2 for a frontier already chosen by another robot; 0 = `l`",
+    )
+    fm_spacing = Param(
+        0.0,
+        "cells",
+        "least spacing of the frontiers in FM; 0 = sensor range",
+        low=0,
+        note=(
+            "least distance between two frontiers of FM (paper: the sensor range); 0 = sensor range"
         ),
-        "fm_spacing": Param(
-            0.0, "cells", "least spacing of the frontiers in FM; 0 = sensor range", low=0
+    )
+    fm_order = Param(
+        "nearest",
+        "",
+        "greedy FM order: nearest | clusters | raster",
+        choices=FM_ORDERS,
+        note=(
+            "order of the greedy FM choice: `nearest` (path cost from the closest "
+            "robot), `clusters` (cluster representatives by size, then raster), "
+            "`raster`"
         ),
-        "fm_order": Param(
-            "nearest", "", "greedy FM order: nearest | clusters | raster", choices=FM_ORDERS
+    )
+    max_points = Param(
+        3000,
+        "cells",
+        "unknown cells K-Means is run on (random subsample)",
+        low=1,
+        note="unknown cells K-Means runs on (random subsample)",
+    )
+    kmeans_iterations = Param(
+        20,
+        "",
+        "most Lloyd iterations of K-Means per round",
+        low=1,
+        note="most Lloyd iterations per round (stops when labels settle)",
+    )
+    round_timeout = Param(
+        0,
+        "ticks",
+        "decide with the reports at hand after this; 0 = auto",
+        low=0,
+        note=(
+            "the coordinator decides with the positions it has after this; 0 = 2 x "
+            "latency x hops + 1"
         ),
-        "max_points": Param(
-            3000, "cells", "unknown cells K-Means is run on (random subsample)", low=1
-        ),
-        "kmeans_iterations": Param(20, "", "most Lloyd iterations of K-Means per round", low=1),
-        "round_timeout": Param(
-            0, "ticks", "decide with the reports at hand after this; 0 = auto", low=0
-        ),
-        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
-        **FALLBACK_PARAMS,
-        **REPLAN_PARAMS,
-        # §IV.D step 11: "Robots move to their targets until one robot arrives at its
-        # target": a round on arrival, not when a target got explored.
-        "replan_on_target_explored": dataclasses.replace(
-            REPLAN_PARAMS["replan_on_target_explored"], default=False
-        ),
-    }
+    )
+    request_timeout = Param(
+        0,
+        "ticks",
+        "re-send a request after this; 0 = auto",
+        low=0,
+        note="re-send a request that brought no target; 0 = 2 x round_timeout + 2",
+    )
+    # §IV.D step 11: "Robots move to their targets until one robot arrives at its
+    # target": a round on arrival, not when a target got explored.
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if self.p["fm_order"] not in FM_ORDERS:
-            raise ScenarioError(
-                f"--set fm_order={self.p['fm_order']}: choose one of {', '.join(FM_ORDERS)}"
-            )
         # Coordinator state.
         self.reports: dict[int, tuple[Cell, int]] = {}  # robot -> (position, tick sent)
         self.round_since = -1  # tick the open round's first request was sent, -1 = none
         self.round_opened = -1  # tick the coordinator opened it
         self.requesters: set[int] = set()
-        self.held_goals: dict[int, Cell] = {}
         self.centroids: FloatArray | None = None
         self.rounds = 0
         # Member state.
-        self.requested_at = -1
         self.replied_at = -1
-        # Our rules for lossy links and blocked targets (mrexplore.strategies.fallback).
-        self.watch = CoordinatorWatch()
-        self.blocked_targets = BlockedTargets(int(self.p["block_limit"]))
         self.alone_centroids: FloatArray | None = None
 
     # ------------------------------------------------------------ timing
     def _round_timeout(self, view: RobotView, coordinator: int) -> int:
-        given = int(self.p["round_timeout"])
-        if given > 0:
-            return given
-        return 2 * view.comm_latency * hops_from(coordinator, view.subnetwork, view.links) + 1
+        return round_timeout(self.round_timeout, view, coordinator)
 
     def _request_timeout(self, view: RobotView, coordinator: int) -> int:
-        given = int(self.p["request_timeout"])
-        if given > 0:
-            return given
-        return 2 * self._round_timeout(view, coordinator) + 2
-
-    def _coordinator_timeout(self, view: RobotView, coordinator: int) -> int:
-        return coordinator_timeout(
-            int(self.p["coordinator_timeout"]), self._request_timeout(view, coordinator)
-        )
+        round_ticks = self._round_timeout(view, coordinator)
+        return request_timeout(self.request_timeout, round_ticks)
 
     # ------------------------------------------------------------ decide
-    def decide(self, view: RobotView) -> Decision:
-        self.blocked_targets.observe(view)
-        decision = self._decide(view)
-        self.blocked_targets.decided(view, decision)
-        return decision
-
-    def _decide(self, view: RobotView) -> Decision:
-        coordinator = min(view.subnetwork)
+    def decide_coordinated(self, view: RobotView) -> Decision:
+        coordinator = self.coordinator(view)
         is_coordinator = coordinator == self.robot_id
-        assignment: Cell | None = None
+        assignment = self.assignment(view)
         heard_request = False
         for message in view.inbox:
             payload = message.payload
-            if message.type == STATUS and isinstance(payload, StatusPayload):
+            if message.type == STATUS and isinstance(payload, StatusItem):
                 heard_request |= payload.needs_goal and payload.robot != self.robot_id
                 if is_coordinator:
                     self._record_report(payload, message.tick_sent, view.tick)
-            elif message.type == ASSIGN and isinstance(payload, AssignPayload):
-                if payload.robot == self.robot_id:
-                    assignment = payload.goal
         needs_goal = self.needs_plan(view)
         if is_coordinator:
             self.watch.stop()
@@ -913,7 +868,7 @@ class Kme(FrontierStrategy):
 
         decision = Decision()
         if assignment is not None:
-            followed = self._follow(view, assignment)
+            followed = self.follow(view, assignment)
             if followed.goal is not None:
                 self.requested_at = -1
                 decision = followed
@@ -923,14 +878,9 @@ class Kme(FrontierStrategy):
         if not needs_goal:
             self.watch.stop()
         else:
-            self.watch.wait(view.tick)
-            if self.watch.expired(view.tick, self._coordinator_timeout(view, coordinator)):
-                own = self._plan_alone(view)
-                self.watch.acted_alone(view.tick, own.goal is not None)
-                if own.goal is not None:
-                    self.requested_at = -1
-                    decision = own
-                    needs_goal = False
+            own = self.fall_back(view, self._request_timeout(view, coordinator))
+            if own is not None:
+                decision, needs_goal = own, False
         request = needs_goal and (
             self.requested_at < 0
             or view.tick - self.requested_at >= self._request_timeout(view, coordinator)
@@ -940,14 +890,12 @@ class Kme(FrontierStrategy):
         if request or (heard_request and self.replied_at != view.tick):
             # A request opens a round for everyone; a report answers one.
             self.replied_at = view.tick
-            status = StatusPayload(self.robot_id, view.position, request)
+            status = StatusItem(self.robot_id, view.position, request)
             dest = BROADCAST if request else coordinator
-            decision.messages.append(
-                Message(STATUS, self.robot_id, dest, fixed_size(STATUS_BYTES), status)
-            )
+            decision.messages.append(item_message(STATUS, self.robot_id, dest, status))
         return decision
 
-    def _record_report(self, status: StatusPayload, tick_sent: int, now: int) -> None:
+    def _record_report(self, status: StatusItem, tick_sent: int, now: int) -> None:
         self.reports[status.robot] = (status.position, tick_sent)
         if status.needs_goal:
             self.requesters.add(status.robot)
@@ -956,19 +904,7 @@ class Kme(FrontierStrategy):
             else:
                 self.round_since = min(self.round_since, tick_sent)
 
-    def _follow(self, view: RobotView, goal: Cell) -> Decision:
-        """Adopt a target, planning the path on this robot's own belief."""
-        if goal == view.position or not self.blocked_targets.allows(goal):
-            return Decision()
-        only_goal = np.zeros(view.belief.shape, dtype=bool)
-        only_goal[goal] = True
-        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
-        if not np.isfinite(dist[goal]):
-            return Decision()
-        self.last_plan_tick = view.tick
-        return Decision(goal=goal, path=extract_path(dist, goal))
-
-    def _plan_alone(self, view: RobotView) -> Decision:
+    def plan_alone(self, view: RobotView) -> Decision:
         """KME for a team of one: this robot, its own belief, no targets of others.
 
         The round draws from the robot's random stream (K-Means) only when the robot
@@ -985,28 +921,39 @@ class Kme(FrontierStrategy):
             cells = {(int(r), int(c)) for r, c in zip(rows, cols, strict=True)}
             if cells <= self.blocked_targets.excluded:
                 self.blocked_targets.forget()  # nothing else to go to: try them again
-        plan = kme_round(
-            view.belief,
-            {self.robot_id: view.position},
-            view.rng,
-            self.alone_centroids,
-            fm_spacing=float(self.p["fm_spacing"]) or view.sensor_range,
-            v=float(self.p["v"]),
-            max_points=int(self.p["max_points"]),
-            max_iterations=int(self.p["kmeans_iterations"]),
-            fm_order=str(self.p["fm_order"]),
-            unreachable={self.robot_id: self.blocked_targets.excluded},
-        )
+        plan = self._round(view, {self.robot_id: view.position}, self.alone_centroids)
         self.alone_centroids = plan.centroids
         goal = plan.targets.get(self.robot_id)
-        return Decision() if goal is None else self._follow(view, goal)
+        return Decision() if goal is None else self.follow(view, goal)
+
+    def _round(
+        self,
+        view: RobotView,
+        positions: Mapping[int, Cell],
+        centroids: FloatArray | None,
+        taken: Iterable[Cell] = (),
+    ) -> KmePlan:
+        """:func:`kme_round` on this robot's belief with the strategy's parameters."""
+        return kme_round(
+            view.belief,
+            positions,
+            view.rng,
+            centroids,
+            fm_spacing=self.fm_spacing or view.sensor_range,
+            v=self.v,
+            max_points=self.max_points,
+            max_iterations=self.kmeans_iterations,
+            taken=taken,
+            fm_order=self.fm_order,
+            unreachable={self.robot_id: self.blocked_targets.excluded},
+        )
 
     def _coordinate(self, view: RobotView, needs_goal: bool) -> Decision:
         """Coordinator: open rounds, collect positions, decide when all reported."""
         members = view.subnetwork
         decision = Decision()
         self.reports[self.robot_id] = (view.position, view.tick)
-        self.held_goals = {r: g for r, g in self.held_goals.items() if r in members}
+        self.keep_members(members)
         if view.goal is not None:
             self.held_goals[self.robot_id] = view.goal
         may_request = self.requested_at < 0 or (
@@ -1018,10 +965,8 @@ class Kme(FrontierStrategy):
             if self.round_since < 0:
                 self.round_since, self.round_opened = view.tick, view.tick
             if len(members) > 1:  # ask the others for their positions
-                status = StatusPayload(self.robot_id, view.position, True)
-                decision.messages.append(
-                    Message(STATUS, self.robot_id, BROADCAST, fixed_size(STATUS_BYTES), status)
-                )
+                status = StatusItem(self.robot_id, view.position, True)
+                decision.messages.append(item_message(STATUS, self.robot_id, BROADCAST, status))
         self.requesters &= members
         if self.round_since < 0 or not self.requesters:
             self.round_since = self.round_opened = -1
@@ -1035,19 +980,7 @@ class Kme(FrontierStrategy):
     def _run_round(self, view: RobotView, robots: set[int], decision: Decision) -> Decision:
         positions = {r: self.reports[r][0] for r in robots}
         outside = [g for r, g in self.held_goals.items() if r not in robots]
-        plan = kme_round(
-            view.belief,
-            positions,
-            view.rng,
-            self.centroids,
-            fm_spacing=float(self.p["fm_spacing"]) or view.sensor_range,
-            v=float(self.p["v"]),
-            max_points=int(self.p["max_points"]),
-            max_iterations=int(self.p["kmeans_iterations"]),
-            taken=outside,
-            fm_order=str(self.p["fm_order"]),
-            unreachable={self.robot_id: self.blocked_targets.excluded},
-        )
+        plan = self._round(view, positions, self.centroids, outside)
         self.centroids = plan.centroids
         self.rounds += 1
         self.last_plan_tick = view.tick
@@ -1057,17 +990,10 @@ class Kme(FrontierStrategy):
                 continue
             unchanged = self.held_goals.get(robot) == goal
             self.held_goals[robot] = goal
-            if robot == self.robot_id:
-                if not unchanged or robot in self.requesters:
-                    own = self._follow(view, goal)
-                    decision.goal, decision.path = own.goal, own.path
-                    if own.goal is not None:
-                        self.requested_at = -1
-            elif not unchanged or robot in self.requesters:
-                payload = AssignPayload(robot, goal)
-                decision.messages.append(
-                    Message(ASSIGN, self.robot_id, robot, fixed_size(TARGET_BYTES), payload)
-                )
+            if not unchanged or robot in self.requesters:
+                self.hand_out(view, decision, robot, goal)
+        if decision.goal is not None:  # the coordinator follows a goal of its own
+            self.requested_at = -1
         if self.robot_id in self.requesters and decision.goal is None:
             decision.idle = True  # nothing reachable for the coordinator itself
             self.blocked_targets.forget()  # try the targets it gave up on again

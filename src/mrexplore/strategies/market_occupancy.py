@@ -33,80 +33,122 @@ robot that hears the request computes its row over ``y`` and broadcasts it
 of every robot of its sub-network, or ``round_timeout`` ticks after it heard of
 the round; the matrix then holds the rows that arrived in time.
 
-Parameters:
+Parameters (rendered from ``MarketOccupancy.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ========  ========  ============  =============================
-name                           symbol    default   unit          meaning
-=============================  ========  ========  ============  =============================
-``lambda_u``                   lambda_u  0.1       cells / cell  weight of one unknown cell
-                                                                 in U (eq. 4), in cells of cost
-``lambda_f``                   lambda_f  0.0       cells         peak of F (eq. 5); 0 = r_f
-``r``                          r         0.0       cells         utility radius (eq. 4);
-                                                                 0 = the sensor range
-``r_f``                        r_f       0.0       cells         occupancy radius, 3 sigma
-                                                                 (eq. 5); 0 = 2 x sensor range
-``cost``                       C_ij      euclidean -             eq. (3): ``euclidean`` (the
-                                                                 paper); ``path``: shortest-path
-                                                                 length on the robot's map
-``frontier_detector``          -         grid      -             ``grid``: frontier cluster
-                                                                 representatives; ``rrt``: the
-                                                                 RRT detector (Umari 2017)
-``rrt_eta``                    eta       5.0       cells         RRT growth step of both trees;
-                                                                 0 = sensor range (Umari's
-                                                                 launch files: 1 m; 5 cells at
-                                                                 0.2 m per cell)
-``rrt_global_eta``             eta       0.0       cells         growth step of the global tree;
-                                                                 0 = ``rrt_eta`` (Umari: 1 m
-                                                                 with three robots, 15 m alone)
-``rrt_samples``                -         0         samples/tick  samples per tree per tick; 0 =
-                                                                 from ``rrt_sample_density``
-``rrt_sample_density``         -         1.0       samples/tick  samples per tree per tick per
-                                                   /footprint    sensor footprint (pi r^2) of
-                                                                 the map
-``rrt_vertex_spacing``         -         1.0       cells         a free RRT edge shorter than
-                                                                 this adds no vertex
-``rrt_burst``                  -         50        batches       extra RRT batches when a goal
-                                                                 is needed and no reachable
-                                                                 point is stored
-``rrt_clustering``             -         mean-     -             merge stored RRT points by
-                                         shift                   ``mean-shift`` (Umari's filter)
-                                                                 or ``greedy`` (earlier version)
-``rrt_bandwidth``              -         1.5       cells         mean-shift bandwidth (Umari:
-                                                                 0.3 m; 1.5 cells at 0.2 m)
-``rrt_cluster_radius``         -         0.0       cells         ``greedy``: merge stored RRT
-                                                                 points closer than this; 0 =
-                                                                 sensor range / 2
-``rrt_filter_radius``          -         2.5       cells         information-gain radius of the
-                                                                 RRT points' filter (Umari:
-                                                                 0.5 m); 0 = no filter
-``rrt_filter_min_gain``        -         5.0       cells         drop RRT points with fewer
-                                                                 unknown cells within
-                                                                 ``rrt_filter_radius`` (Umari:
-                                                                 0.2 m², 5 cells of 0.04 m²)
-``filter_radius``              -         0.0       cells         information-gain radius of the
-                                                                 frontier filter; 0 = no filter
-``filter_min_gain``            -         0.0       cells         drop frontier points with fewer
-                                                                 unknown cells within
-                                                                 ``filter_radius``
-``round_timeout``              -         0         ticks         decide with the rows at hand
-                                                                 after this; 0 = 2 x latency x
-                                                                 hops + 1
-``request_timeout``            -         0         ticks         re-send a request when a round
-                                                                 gave no goal; 0 = 2 x
-                                                                 round_timeout + 2
-``event_based``                -         True      -             rounds open on events (the
-                                                                 paper); False: every
-                                                                 ``replan_every`` ticks only
-                                                                 (time-triggered ablation)
-``idle_until_clock``           -         True      -             with ``event_based=false``, a
-                                                                 robot that needs a goal waits
-                                                                 for its clock; False: it also
-                                                                 opens a round then
-``replan_*``                   -                                 see :data:`REPLAN_PARAMS`
-                                                                 (``replan_on_target_explored``
-                                                                 is False here: an event is
-                                                                 reaching the goal)
-=============================  ========  ========  ============  =============================
+.. params:begin market-occupancy
+
+=============================  ========  ==========  ======================  =======================
+name                           symbol    default     unit                    meaning
+=============================  ========  ==========  ======================  =======================
+``lambda_u``                   lambda_u  0.1         cells/cell              weight of the utility
+                                                                             (eq. 4)
+``lambda_f``                   lambda_f  0.0         cells                   peak of the frontier
+                                                                             occupancy (eq. 5); 0 =
+                                                                             `r_f`
+``r``                          r         0.0         cells                   radius of the utility
+                                                                             disk (eq. 4); 0 =
+                                                                             sensor range
+``r_f``                        r_f       0.0         cells                   occupancy radius 3
+                                                                             sigma (eq. 5); 0 = 2 x
+                                                                             sensor range
+``cost``                       C_ij      euclidean   -                       eq. (3): Euclidean
+                                                                             distance (the paper);
+                                                                             `path`: shortest-path
+                                                                             length on the robot's
+                                                                             map
+``frontier_detector``          -         grid        -                       `grid` or `rrt`
+``rrt_eta``                    eta       5.0         cells                   RRT growth step of both
+                                                                             trees; Umari's launch
+                                                                             files: 1 m (5 cells at
+                                                                             0.2 m per cell); 0 =
+                                                                             sensor range, the
+                                                                             earlier default
+``rrt_global_eta``             eta       0.0         cells                   growth step of the
+                                                                             global tree; Umari: 1 m
+                                                                             with three robots on
+                                                                             the merged map
+                                                                             (`three_robots.launch`),
+                                                                             15 m with one robot (75
+                                                                             cells); 0 = `rrt_eta`
+``rrt_samples``                -         0           samples/tick            RRT iterations per tree
+                                                                             per tick; 0 = from
+                                                                             `rrt_sample_density`;
+                                                                             the earlier default was
+                                                                             20
+``rrt_sample_density``         -         1.0         samples/tick/footprint  the budget:
+                                                                             `ceil(density H W / (pi
+                                                                             r^2))` samples per tree
+                                                                             per tick (Intel at 0.2
+                                                                             m: 46; office 120 x 80
+                                                                             with a 15-cell sensor:
+                                                                             14; 100 x 100 with 8
+                                                                             cells: 50)
+``rrt_vertex_spacing``         -         1.0         cells                   a free edge shorter
+                                                                             than this adds no
+                                                                             vertex
+``rrt_burst``                  -         50          batches                 extra RRT batches (one
+                                                                             tick's budget each)
+                                                                             when a goal is needed
+                                                                             and no reachable point
+                                                                             is stored
+``rrt_clustering``             -         mean-shift  -                       how stored RRT points
+                                                                             are merged: `mean-
+                                                                             shift` (Umari's filter)
+                                                                             or `greedy` (the
+                                                                             earlier version)
+``rrt_bandwidth``              -         1.5         cells                   mean-shift bandwidth;
+                                                                             Umari's filter:
+                                                                             `MeanShift(bandwidth=0.3)`,
+                                                                             0.3 m
+``rrt_cluster_radius``         -         0.0         cells                   `greedy`: stored RRT
+                                                                             points closer than this
+                                                                             are merged; 0 = sensor
+                                                                             range / 2
+``rrt_filter_radius``          -         2.5         cells                   RRT points: radius of
+                                                                             the information-gain
+                                                                             test (Umari:
+                                                                             `info_radius * 0.5` =
+                                                                             0.5 m); 0 = no test
+``rrt_filter_min_gain``        -         5.0         cells                   RRT points with fewer
+                                                                             unknown cells within
+                                                                             `rrt_filter_radius` are
+                                                                             dropped (Umari: 0.2 m²
+                                                                             = 5 cells of 0.04 m²)
+``filter_radius``              -         0.0         cells                   every detector's
+                                                                             points: radius of the
+                                                                             same test; 0 = no
+                                                                             filter
+``filter_min_gain``            -         0.0         cells                   every detector's points
+                                                                             with fewer unknown
+                                                                             cells within
+                                                                             `filter_radius` are
+                                                                             dropped
+``round_timeout``              -         0           ticks                   decide with the rows at
+                                                                             hand after this; 0 = 2
+                                                                             x latency x hops + 1
+``request_timeout``            -         0           ticks                   least time between two
+                                                                             requests of a robot; 0
+                                                                             = 2 x round_timeout + 2
+``event_based``                -         true        -                       rounds open on events
+                                                                             (goal reached, blocked,
+                                                                             no goal); `false`: only
+                                                                             every `replan_every`
+                                                                             ticks (time-triggered,
+                                                                             an ablation)
+``idle_until_clock``           -         true        -                       with
+                                                                             `event_based=false`, a
+                                                                             robot that needs a goal
+                                                                             waits for its clock;
+                                                                             `false`: it also opens
+                                                                             a round at once
+``replan_on_target_explored``  -         false       -                       re-plan when the goal
+                                                                             is no longer a frontier
+                                                                             cell
+ReplanRules                    -                                             shared:
+                                                                             ``strategies.base``
+=============================  ========  ==========  ======================  =======================
+
+.. params:end
 
 Messages (sizes: header of :mod:`mrexplore.comm.bytes` plus the payload below):
 
@@ -223,9 +265,8 @@ Interpretations (where the paper is silent):
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -243,11 +284,11 @@ from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
     distance_field,
-    extract_path,
     filter_by_gain,
     frontier_clusters,
     frontier_mask,
     information_gain,
+    path_to,
 )
 from mrexplore.planning.rrt_frontiers import (
     CLUSTERINGS,
@@ -255,15 +296,15 @@ from mrexplore.planning.rrt_frontiers import (
     samples_per_tick,
 )
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     FrontierStrategy,
     Param,
+    ReplanRules,
     RobotView,
     passable,
 )
-from mrexplore.strategies.kme import hops_from
+from mrexplore.strategies.network import request_timeout, round_timeout
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -414,83 +455,207 @@ class MarketOccupancy(FrontierStrategy):
         "Decentralised market-based strategy for cooperative multi-robot exploration "
         "(§III, eqs. 1-8, Algorithm 1); frontiers: H. Umari, S. Mukhopadhyay, IROS 2017"
     )
-    params: ClassVar[Mapping[str, Param]] = {
-        "lambda_u": Param(
-            0.1, "cells/cell", "weight of one unknown cell in U (eq. 4)", "lambda_u", low=0
+    lambda_u = Param(
+        0.1,
+        "cells/cell",
+        "weight of one unknown cell in U (eq. 4)",
+        "lambda_u",
+        low=0,
+        note="weight of the utility (eq. 4)",
+    )
+    lambda_f = Param(
+        0.0,
+        "cells",
+        "peak of the occupancy F (eq. 5); 0 = r_f",
+        "lambda_f",
+        low=0,
+        note="peak of the frontier occupancy (eq. 5); 0 = `r_f`",
+    )
+    r = Param(
+        0.0,
+        "cells",
+        "utility radius (eq. 4); 0 = sensor range",
+        "r",
+        low=0,
+        note="radius of the utility disk (eq. 4); 0 = sensor range",
+    )
+    r_f = Param(
+        0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
+    )
+    cost = Param(
+        "euclidean",
+        "",
+        "C_ij of eq. (3): euclidean | path",
+        choices=("euclidean", "path"),
+        note=(
+            "eq. (3): Euclidean distance (the paper); `path`: shortest-path length "
+            "on the robot's map"
         ),
-        "lambda_f": Param(
-            0.0, "cells", "peak of the occupancy F (eq. 5); 0 = r_f", "lambda_f", low=0
+        symbol="C_ij",
+    )
+    frontier_detector = Param(
+        "grid", "", "frontier points: grid | rrt", choices=DETECTORS, note="`grid` or `rrt`"
+    )
+    rrt_eta = Param(
+        5.0,
+        "cells",
+        "RRT growth step (Umari: 1 m); 0 = sensor range",
+        "eta",
+        low=0,
+        note=(
+            "RRT growth step of both trees; Umari's launch files: 1 m (5 cells at "
+            "0.2 m per cell); 0 = sensor range, the earlier default"
         ),
-        "r": Param(0.0, "cells", "utility radius (eq. 4); 0 = sensor range", "r", low=0),
-        "r_f": Param(
-            0.0, "cells", "occupancy radius 3 sigma (eq. 5); 0 = 2 x sensor range", "r_f", low=0
+    )
+    rrt_global_eta = Param(
+        0.0,
+        "cells",
+        "growth step of the global RRT; 0 = rrt_eta",
+        "eta",
+        low=0,
+        note=(
+            "growth step of the global tree; Umari: 1 m with three robots on the "
+            "merged map (`three_robots.launch`), 15 m with one robot (75 cells); 0 "
+            "= `rrt_eta`"
         ),
-        "cost": Param(
-            "euclidean", "", "C_ij of eq. (3): euclidean | path", choices=("euclidean", "path")
+    )
+    rrt_samples = Param(
+        0,
+        "samples/tick",
+        "RRT samples per tree per tick; 0 = rrt_sample_density",
+        low=0,
+        note=(
+            "RRT iterations per tree per tick; 0 = from `rrt_sample_density`; the "
+            "earlier default was 20"
         ),
-        "frontier_detector": Param("grid", "", "frontier points: grid | rrt", choices=DETECTORS),
-        "rrt_eta": Param(
-            5.0, "cells", "RRT growth step (Umari: 1 m); 0 = sensor range", "eta", low=0
+    )
+    rrt_sample_density = Param(
+        1.0,
+        "samples/tick/footprint",
+        "RRT samples per tree per tick per pi r^2 of the map",
+        low=0,
+        low_open=True,
+        note=(
+            "the budget: `ceil(density H W / (pi r^2))` samples per tree per tick "
+            "(Intel at 0.2 m: 46; office 120 x 80 with a 15-cell sensor: 14; 100 x "
+            "100 with 8 cells: 50)"
         ),
-        "rrt_global_eta": Param(
-            0.0, "cells", "growth step of the global RRT; 0 = rrt_eta", "eta", low=0
+    )
+    rrt_vertex_spacing = Param(
+        1.0,
+        "cells",
+        "a free RRT edge shorter than this adds no vertex",
+        low=0,
+        note="a free edge shorter than this adds no vertex",
+    )
+    rrt_burst = Param(
+        50,
+        "batches",
+        "extra RRT batches when a goal is needed and no point",
+        low=0,
+        note=(
+            "extra RRT batches (one tick's budget each) when a goal is needed and "
+            "no reachable point is stored"
         ),
-        "rrt_samples": Param(
-            0, "samples/tick", "RRT samples per tree per tick; 0 = rrt_sample_density", low=0
+    )
+    rrt_clustering = Param(
+        "mean-shift",
+        "",
+        "merge RRT points: mean-shift | greedy",
+        choices=CLUSTERINGS,
+        note=(
+            "how stored RRT points are merged: `mean-shift` (Umari's filter) or "
+            "`greedy` (the earlier version)"
         ),
-        "rrt_sample_density": Param(
-            1.0,
-            "samples/tick/footprint",
-            "RRT samples per tree per tick per pi r^2 of the map",
-            low=0,
-            low_open=True,
+    )
+    rrt_bandwidth = Param(
+        1.5,
+        "cells",
+        "mean-shift bandwidth (Umari: 0.3 m)",
+        low=0,
+        low_open=True,
+        note=("mean-shift bandwidth; Umari's filter: `MeanShift(bandwidth=0.3)`, 0.3 m"),
+    )
+    rrt_cluster_radius = Param(
+        0.0,
+        "cells",
+        "greedy: merge RRT points closer; 0 = sensor range/2",
+        low=0,
+        note=("`greedy`: stored RRT points closer than this are merged; 0 = sensor range / 2"),
+    )
+    rrt_filter_radius = Param(
+        2.5,
+        "cells",
+        "RRT points: information-gain radius (Umari: 0.5 m); 0 = none",
+        low=0,
+        note=(
+            "RRT points: radius of the information-gain test (Umari: `info_radius * "
+            "0.5` = 0.5 m); 0 = no test"
         ),
-        "rrt_vertex_spacing": Param(
-            1.0, "cells", "a free RRT edge shorter than this adds no vertex", low=0
+    )
+    rrt_filter_min_gain = Param(
+        5.0,
+        "cells",
+        "RRT points: drop those with fewer unknown cells (Umari: 0.2 m2)",
+        low=0,
+        note=(
+            "RRT points with fewer unknown cells within `rrt_filter_radius` are "
+            "dropped (Umari: 0.2 m² = 5 cells of 0.04 m²)"
         ),
-        "rrt_burst": Param(
-            50, "batches", "extra RRT batches when a goal is needed and no point", low=0
+    )
+    filter_radius = Param(
+        0.0,
+        "cells",
+        "information-gain radius of the frontier filter; 0 = none",
+        low=0,
+        note="every detector's points: radius of the same test; 0 = no filter",
+    )
+    filter_min_gain = Param(
+        0.0,
+        "cells",
+        "drop frontier points with fewer unknown cells within it",
+        low=0,
+        note=(
+            "every detector's points with fewer unknown cells within `filter_radius` are dropped"
         ),
-        "rrt_clustering": Param(
-            "mean-shift", "", "merge RRT points: mean-shift | greedy", choices=CLUSTERINGS
+    )
+    round_timeout = Param(
+        0,
+        "ticks",
+        "decide with the rows at hand after this; 0 = auto",
+        low=0,
+        note="decide with the rows at hand after this; 0 = 2 x latency x hops + 1",
+    )
+    request_timeout = Param(
+        0,
+        "ticks",
+        "re-send a request after this; 0 = auto",
+        low=0,
+        note="least time between two requests of a robot; 0 = 2 x round_timeout + 2",
+    )
+    event_based = Param(
+        True,
+        "",
+        "rounds open on events (goal reached); false: every replan_every ticks",
+        note=(
+            "rounds open on events (goal reached, blocked, no goal); `false`: only "
+            "every `replan_every` ticks (time-triggered, an ablation)"
         ),
-        "rrt_bandwidth": Param(
-            1.5, "cells", "mean-shift bandwidth (Umari: 0.3 m)", low=0, low_open=True
+    )
+    idle_until_clock = Param(
+        True,
+        "",
+        "with event_based=false, a robot needing a goal waits for its clock",
+        note=(
+            "with `event_based=false`, a robot that needs a goal waits for its "
+            "clock; `false`: it also opens a round at once"
         ),
-        "rrt_cluster_radius": Param(
-            0.0, "cells", "greedy: merge RRT points closer; 0 = sensor range/2", low=0
-        ),
-        "rrt_filter_radius": Param(
-            2.5, "cells", "RRT points: information-gain radius (Umari: 0.5 m); 0 = none", low=0
-        ),
-        "rrt_filter_min_gain": Param(
-            5.0, "cells", "RRT points: drop those with fewer unknown cells (Umari: 0.2 m2)", low=0
-        ),
-        "filter_radius": Param(
-            0.0, "cells", "information-gain radius of the frontier filter; 0 = none", low=0
-        ),
-        "filter_min_gain": Param(
-            0.0, "cells", "drop frontier points with fewer unknown cells within it", low=0
-        ),
-        "round_timeout": Param(
-            0, "ticks", "decide with the rows at hand after this; 0 = auto", low=0
-        ),
-        "request_timeout": Param(0, "ticks", "re-send a request after this; 0 = auto", low=0),
-        "event_based": Param(
-            True, "", "rounds open on events (goal reached); false: every replan_every ticks"
-        ),
-        "idle_until_clock": Param(
-            True, "", "with event_based=false, a robot needing a goal waits for its clock"
-        ),
-        **REPLAN_PARAMS,
-        "replan_on_target_explored": Param(
-            False, "", "re-plan when the goal is no longer a frontier cell"
-        ),
-    }
+    )
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if not self.p["event_based"] and int(self.p["replan_every"]) <= 0:
+        if not self.event_based and self.replan_every <= 0:
             raise ScenarioError(
                 "--set event_based=false: time-triggered rounds need a period, "
                 "e.g. --set replan_every=10"
@@ -507,14 +672,10 @@ class MarketOccupancy(FrontierStrategy):
 
     # ------------------------------------------------------------ helpers
     def _round_timeout(self, view: RobotView) -> int:
-        given = int(self.p["round_timeout"])
-        if given > 0:
-            return given
-        return 2 * view.comm_latency * hops_from(self.robot_id, view.subnetwork, view.links) + 1
+        return round_timeout(self.round_timeout, view, self.robot_id)
 
     def _request_timeout(self, view: RobotView) -> int:
-        given = int(self.p["request_timeout"])
-        return given if given > 0 else 2 * self._round_timeout(view) + 2
+        return request_timeout(self.request_timeout, self._round_timeout(view))
 
     def frontier_points(self, view: RobotView) -> IntArray:
         """The frontier list ``y`` (eqs. 1-2) of this robot's map, ``(M, 2)`` cells.
@@ -529,9 +690,9 @@ class MarketOccupancy(FrontierStrategy):
         """Points with at least ``filter_min_gain`` unknown cells within ``filter_radius``
         (Umari & Mukhopadhyay's filter), or all of them if none has; ``prefix="rrt_"``:
         the RRT detector's own values of the same test."""
-        radius = float(self.p[prefix + "filter_radius"])
+        radius = float(getattr(self, prefix + "filter_radius"))
         kept = filter_by_gain(
-            view.belief, points, radius, float(self.p[prefix + "filter_min_gain"])
+            view.belief, points, radius, float(getattr(self, prefix + "filter_min_gain"))
         )
         return kept if kept.shape[0] else points
 
@@ -542,7 +703,7 @@ class MarketOccupancy(FrontierStrategy):
         reachable = frontier & np.isfinite(reach)
         if self.detector is not None:
             points = self.detector.points(view.belief)
-            for _ in range(int(self.p["rrt_burst"])):
+            for _ in range(self.rrt_burst):
                 if reachable[points[:, 0], points[:, 1]].any():
                     break
                 self.detector.step(view.belief, view.position, view.rng)
@@ -556,9 +717,9 @@ class MarketOccupancy(FrontierStrategy):
 
     def row(self, view: RobotView, points: IntArray) -> npt.NDArray[np.float32]:
         """Eqs. (3)-(6): this robot's weights over ``points``, as sent (float32)."""
-        r = float(self.p["r"]) or view.sensor_range
-        r_f = float(self.p["r_f"]) or 2.0 * view.sensor_range
-        lambda_f = float(self.p["lambda_f"]) or r_f
+        r = self.r or view.sensor_range
+        r_f = self.r_f or 2.0 * view.sensor_range
+        lambda_f = self.lambda_f or r_f
         others = [q for robot, q in sorted(self.assigned.items()) if robot != self.robot_id]
         reach = np.zeros(points.shape[0])
         if points.shape[0]:
@@ -566,10 +727,10 @@ class MarketOccupancy(FrontierStrategy):
             targets[points[:, 0], points[:, 1]] = True
             dist = distance_field(passable(view.belief), view.position, targets=targets)
             reach = dist[points[:, 0], points[:, 1]]
-        c = np.where(np.isfinite(reach), reach, 0.0) if self.p["cost"] == "path" else None
+        c = np.where(np.isfinite(reach), reach, 0.0) if self.cost == "path" else None
         w = weight(
             cost(view.position, points) if c is None else c,
-            utility(view.belief, points, r, float(self.p["lambda_u"])),
+            utility(view.belief, points, r, self.lambda_u),
             occupancy(points, others, r_f, lambda_f),
         )
         if points.shape[0]:
@@ -582,19 +743,19 @@ class MarketOccupancy(FrontierStrategy):
 
     # ------------------------------------------------------------ decide
     def decide(self, view: RobotView) -> Decision:
-        if self.p["frontier_detector"] == "rrt":
+        if self.frontier_detector == "rrt":
             if self.detector is None:
-                samples = int(self.p["rrt_samples"]) or samples_per_tick(
-                    view.belief.shape, view.sensor_range, float(self.p["rrt_sample_density"])
+                samples = self.rrt_samples or samples_per_tick(
+                    view.belief.shape, view.sensor_range, self.rrt_sample_density
                 )
                 self.detector = RrtFrontierDetector(
-                    eta=float(self.p["rrt_eta"]) or view.sensor_range,
+                    eta=self.rrt_eta or view.sensor_range,
                     samples=samples,
-                    global_eta=float(self.p["rrt_global_eta"]),
-                    clustering=str(self.p["rrt_clustering"]),
-                    bandwidth=float(self.p["rrt_bandwidth"]),
-                    cluster_radius=float(self.p["rrt_cluster_radius"]) or view.sensor_range / 2,
-                    vertex_spacing=float(self.p["rrt_vertex_spacing"]),
+                    global_eta=self.rrt_global_eta,
+                    clustering=self.rrt_clustering,
+                    bandwidth=self.rrt_bandwidth,
+                    cluster_radius=self.rrt_cluster_radius or view.sensor_range / 2,
+                    vertex_spacing=self.rrt_vertex_spacing,
                 )
             self.detector.step(view.belief, view.position, view.rng)
         decision = Decision()
@@ -635,9 +796,9 @@ class MarketOccupancy(FrontierStrategy):
         a robot that reached its goal waits for its clock (or another robot's round),
         unless ``idle_until_clock=false``: then the events open a round too.
         """
-        if not self.p["event_based"]:
-            clock = self.clock_at < 0 or view.tick - self.clock_at >= int(self.p["replan_every"])
-            if clock or self.p["idle_until_clock"]:
+        if not self.event_based:
+            clock = self.clock_at < 0 or view.tick - self.clock_at >= self.replan_every
+            if clock or self.idle_until_clock:
                 return clock
         if not self.needs_plan(view):
             return False
@@ -700,18 +861,14 @@ class MarketOccupancy(FrontierStrategy):
 
     def _follow(self, view: RobotView, goal: Cell) -> Decision:
         """Head for an assigned point, planning over this robot's known-free cells."""
-        if goal == view.goal:
+        if goal in (view.goal, view.position):
             return Decision()
-        if goal == view.position:
-            return Decision()
-        only_goal = np.zeros(view.belief.shape, dtype=bool)
-        only_goal[goal] = True
-        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
-        if not np.isfinite(dist[goal]):
+        path = path_to(passable(view.belief), view.position, goal)
+        if path is None:
             return Decision()
         self.last_plan_tick = view.tick
         self.requested_at = -1
-        return Decision(goal=goal, path=extract_path(dist, goal))
+        return Decision(goal=goal, path=path)
 
 
 __all__ = [

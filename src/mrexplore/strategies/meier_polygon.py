@@ -19,25 +19,22 @@ Algorithm 1, per robot, whenever it needs a new target:
 7. ``t = argmax_t U_t - beta * V_t``, ``V_t`` the cost of reaching t;
 8. broadcast t (a target point transmission, ``TPT``).
 
-Parameters:
+Parameters (rendered from ``MeierPolygon.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ==========  =======  =====  ======================================
-name                           symbol      default  unit   meaning
-=============================  ==========  =======  =====  ======================================
-``beta``                       beta        1.0      -      weight of cost against utility
-``max_range``                  max_range   0.0      cells  radius of P(d); 0 = sensor range
-``normalize_cost``             -           True     -      scale V to [0, 1] by the largest
-                                                           finite cost (as in ``burgard``)
-``respect_priority``           -           True     -      only targets of robots with a lower
-                                                           id (higher priority) discount
-``visibility_discount``        -           True     -      discount only in the visibility area
-                                                           (line of sight) of a target; False:
-                                                           every target within max_range
-``replan_on_target_explored``  -           False    -      also choose anew once the target is
-                                                           explored (default: on arrival, when
-                                                           Algorithm 1 needs a new target)
-``replan_*``                   -                           see :data:`REPLAN_PARAMS`
-=============================  ==========  =======  =====  ======================================
+.. params:begin meier-polygon
+
+=============================  ======  =======  ====  ==============================================
+name                           symbol  default  unit  meaning
+=============================  ======  =======  ====  ==============================================
+``respect_priority``           -       true     -     only targets of robots with a lower id
+                                                      discount
+``replan_on_target_explored``  -       false    -     re-plan when the goal is no longer a frontier
+                                                      cell
+UtilityDiscounting             -                      shared: ``strategies.utility``
+ReplanRules                    -                      shared: ``strategies.base``
+=============================  ======  =======  ====  ==============================================
+
+.. params:end
 
 Messages: ``TPT`` (target point transmission), broadcast: the target as one
 polygon point (x int32, y int32, id uint32 = 12 bytes) plus the header.
@@ -51,9 +48,7 @@ new one. The cost scale follows ``burgard`` (see its doc page).
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Mapping
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -62,40 +57,34 @@ from mrexplore.comm.bytes import BROADCAST, POLYGON_POINT_BYTES, fixed_size
 from mrexplore.comm.messages import Message
 from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     FrontierStrategy,
     Param,
+    ReplanRules,
     RobotView,
 )
-from mrexplore.strategies.burgard import discount
+from mrexplore.strategies.utility import UtilityDiscounting, discount
 
 TPT = "TPT"
 
 
-class MeierPolygon(FrontierStrategy):
+class MeierPolygon(UtilityDiscounting, FrontierStrategy):
     """Meier et al. Algorithm 1: decentralised utility discounting."""
 
     id = "meier-polygon"
     summary = "Meier et al. 2005: decentralised discounting over polygon maps (Alg. 1)"
     citation = "D. Meier, C. Stachniss, W. Burgard, ECMR 2005, §4 and Algorithm 1"
     default_sharing = "polygon"
-    params: ClassVar[Mapping[str, Param]] = {
-        "beta": Param(1.0, "", "weight of travel cost against utility", "beta", low=0),
-        "max_range": Param(0.0, "cells", "radius of P(d); 0 = sensor range", "max_range", low=0),
-        "normalize_cost": Param(True, "", "scale costs to [0, 1]"),
-        "respect_priority": Param(True, "", "only lower ids' targets discount"),
-        "visibility_discount": Param(
-            True, "", "discount only targets in line of sight of a received target"
-        ),
-        **REPLAN_PARAMS,
-        # Algorithm 1 runs "whenever a robot selects a new target location": when it
-        # reached its target (or cannot reach it), not when the target got explored.
-        "replan_on_target_explored": dataclasses.replace(
-            REPLAN_PARAMS["replan_on_target_explored"], default=False
-        ),
-    }
+    respect_priority = Param(
+        True,
+        "",
+        "only lower ids' targets discount",
+        note="only targets of robots with a lower id discount",
+    )
+    # Algorithm 1 runs "whenever a robot selects a new target location": when it
+    # reached its target (or cannot reach it), not when the target got explored.
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -125,14 +114,14 @@ class MeierPolygon(FrontierStrategy):
         if rows.size == 0:
             return None
         cost = dist[rows, cols]  # V_t
-        if self.p["normalize_cost"] and cost.max() > 0:
+        if self.normalize_cost and cost.max() > 0:
             cost = cost / cost.max()
         utility = np.ones(rows.size, dtype=np.float64)  # step 3
-        max_range = float(self.p["max_range"]) or view.sensor_range
-        occupied = view.belief == OCCUPIED if self.p["visibility_discount"] else None
+        max_range = self.max_range or view.sensor_range
+        occupied = view.belief == OCCUPIED if self.visibility_discount else None
         for robot, target in sorted(self.received_targets.items()):  # steps 4-6
-            if robot == self.robot_id or (self.p["respect_priority"] and robot > self.robot_id):
+            if robot == self.robot_id or (self.respect_priority and robot > self.robot_id):
                 continue
             discount(utility, rows, cols, target, max_range, occupied)  # "in the visibility area"
-        best = int(np.argmax(utility - float(self.p["beta"]) * cost))  # step 7
+        best = int(np.argmax(utility - self.beta * cost))  # step 7
         return int(rows[best]), int(cols[best])

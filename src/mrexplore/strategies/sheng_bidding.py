@@ -15,7 +15,7 @@ sub-network) and **travelling** (it won a session and drives to its target).
 
 * ``I_i``: the unknown cells within ``r_s`` of ``i`` that are not within ``r_s`` of
   the position of another sensing-and-mapping robot nor of the target of another
-  travelling robot of the sub-network (:func:`exclusion_mask`,
+  travelling robot of the sub-network (:func:`~mrexplore.planning.disk_mask`,
   :func:`information_gains`);
 * ``D_i``: the shortest travel distance from the robot to ``i`` over the cells it
   knows to be free (Dijkstra, 8-connected, no corner cutting);
@@ -38,33 +38,43 @@ with the winner's target known and bid again. §3.4: a robot that finishes
 sensing when the best current session began more than ``T_win`` ago (less than
 ``T_grace`` before it closes) stays out of it and waits for the next one.
 
-Parameters:
+Parameters (rendered from ``ShengBidding.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ======  =======  ======  ===================================
-name                           symbol  default  unit    meaning
-=============================  ======  =======  ======  ===================================
-``w1``                         ω1      1.0      1/cell  weight of the information gain I_i
-``w2``                         ω2      1.0      1/cell  weight of the travel distance D_i
-``w3``                         ω3      1.5      -       weight of the nearness lambda_i
-                                                        (0 = the paper's "without nearness")
-``alpha``                      α       0.5      -       fading factor of eq. (1), in [0, 1]
-                                                        (the paper gives no value)
-``eq2_units``                  -       cells    -       units of eq. (2): ``cells``,
-                                                        ``raw`` or ``unit-free`` (below)
-``nearness_over``              -       subnet.  -       robots of eq. (1): ``subnetwork``
-                                                        or ``known`` (all last heard of)
-``comm_range``                 r_c     0        cells   communication range in eq. (1);
-                                                        0 = the run's --comm-range, or
-                                                        the paper's 16 when unlimited
-``bid_time``                   t_bid   1        ticks   bidding time (paper: 1.5 s); at
-                                                        least T_grace is used
-``session_floor``              -       grace    -       least t_bid: ``grace`` (T_grace)
-                                                        or ``delay`` (t_d, T_win may be -1)
-``declare_timeout``            -       0        ticks   longest wait past t_bid for a
-                                                        winner; 0 = t_bid + 2 t_d
-``replan_on_target_explored``  -       False    -       stop travelling and bid again when
-                                                        the target stops being a frontier
-=============================  ======  =======  ======  ===================================
+.. params:begin sheng-bidding
+
+=============================  ======  ==========  ======  =========================================
+name                           symbol  default     unit    meaning
+=============================  ======  ==========  ======  =========================================
+``w1``                         ω1      1.0         1/cell  weight of the information gain `I_i` (§5)
+``w2``                         ω2      1.0         1/cell  weight of the travel distance `D_i` (§5)
+``w3``                         ω3      1.5         -       weight of the nearness `lambda_i` (§5;
+                                                           `0` = "without nearness")
+``alpha``                      α       0.5         -       fading factor of eq. (1), in [0, 1]; the
+                                                           paper says only "positive, smaller than
+                                                           1"
+``nearness_over``              -       subnetwork  -       the robots eq. (1) measures to: the `n_k`
+                                                           of the sub-network, or `known`, every
+                                                           robot last heard of (Fig. 2's example)
+``eq2_units``                  -       cells       -       units of eq. (2)'s terms: `cells`
+                                                           (`lambda_i` in units of `r_c` cells),
+                                                           `raw` (the literal sum) or `unit-free`
+                                                           (see Interpretations)
+``comm_range``                 r_c     0.0         cells   communication range in eq. (1); 0 = the
+                                                           run's `--comm-range`, or 16 (section 5)
+                                                           when unlimited; `inf` makes every term 1:
+                                                           no pull
+``bid_time``                   t_bid   1           ticks   bidding time (paper: 1.5 s); the session
+                                                           lasts `max(bid_time, T_grace)`
+``session_floor``              -       grace       -       the least `t_bid`: `grace` (`T_grace`, so
+                                                           `T_win >= 0`) or `delay` (`t_d`, the
+                                                           earlier reading; `T_win` can be -1)
+``declare_timeout``            -       0           ticks   longest wait past `t_bid` for a winner's
+                                                           declaration; 0 = `t_bid + 2 t_d`
+``replan_on_target_explored``  -       false       -       stop and bid again when the target is no
+                                                           longer a frontier cell
+=============================  ======  ==========  ======  =========================================
+
+.. params:end
 
 Time windows (§3.4, Fig. 6), from the sub-network at the start of each session
 (:func:`session_timing`): ``t_d = comm_latency x hop diameter`` of the
@@ -155,42 +165,35 @@ Interpretations (where the paper is silent):
 from __future__ import annotations
 
 import math
-from collections import deque
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import (
-    BID_BYTES,
-    BROADCAST,
-    POSITION_BYTES,
-    TARGET_BYTES,
-    fixed_size,
-    float32_on_wire,
-)
-from mrexplore.comm.messages import BID, TARGET, Message
-from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
+from mrexplore.comm.bytes import BROADCAST, float32_on_wire
+from mrexplore.comm.messages import BID, TARGET, BidItem, CellItem, Message, item_message
+from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
-    clip_radius,
+    disk_mask,
     disk_offsets,
     distance_field,
     extract_path,
     frontier_mask,
     information_gain,
+    path_to,
 )
 from mrexplore.strategies.base import (
     Cell,
     Decision,
     Param,
-    Path,
     RobotView,
     Strategy,
     frontier_at,
     passable,
 )
+from mrexplore.strategies.network import hop_diameter, hop_distances
 
 WINNER = "winner"
 """Message type of a winner declaration (robot id and target)."""
@@ -213,30 +216,10 @@ TRAVELLING = "travelling"
 DONE = "done"  # no reachable frontier cell in its map
 
 
-# ----------------------------------------------------------------------------- payloads
-@dataclass(frozen=True, slots=True)
-class BidPayload:
-    """A bid: the bidder, the frontier cell it bids for and ``B`` (float32 on the wire)."""
-
-    robot: int
-    target: Cell
-    value: float
-
-
-@dataclass(frozen=True, slots=True)
-class TargetPayload:
-    """A robot and its target cell (winner declaration or target re-announcement)."""
-
-    robot: int
-    target: Cell
-
-
-@dataclass(frozen=True, slots=True)
-class PositionPayload:
-    """A sensing-and-mapping robot and its cell."""
-
-    robot: int
-    position: Cell
+# ----------------------------------------------------------------------------- messages
+# A bid is a bid item (the bidder, the frontier cell it bids for, ``B`` as float32); a
+# winner declaration or a target re-announcement, and a sensing-and-mapping robot's
+# position, are cell items (robot, cell).
 
 
 # ----------------------------------------------------------------------------- equations
@@ -279,22 +262,6 @@ def net_gain(
     )
 
 
-def exclusion_mask(shape: tuple[int, int], centres: Iterable[Cell], radius: float) -> BoolGrid:
-    """Cells within ``radius`` (cells, Euclidean) of any of ``centres``.
-
-    >>> exclusion_mask((3, 4), [(1, 1)], 1.0).astype(int).tolist()
-    [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
-    """
-    mask = np.zeros(shape, dtype=bool)
-    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
-    for row, col in centres:
-        rows = offsets[:, 0] + row
-        cols = offsets[:, 1] + col
-        inside = (rows >= 0) & (rows < shape[0]) & (cols >= 0) & (cols < shape[1])
-        mask[rows[inside], cols[inside]] = True
-    return mask
-
-
 def information_gains(
     belief: BeliefGrid,
     candidates: npt.NDArray[np.integer],
@@ -305,7 +272,7 @@ def information_gains(
     counting those within ``sensor_range`` of any cell of ``others`` (positions of
     the other sensing-and-mapping robots, targets of the travelling ones)."""
     centres = list(others)
-    exclude = exclusion_mask(belief.shape, centres, sensor_range) if centres else None
+    exclude = disk_mask(belief.shape, centres, sensor_range) if centres else None
     return information_gain(belief, candidates, sensor_range, exclude=exclude)
 
 
@@ -386,33 +353,6 @@ def compute_bid(
 
 
 # ----------------------------------------------------------------------------- timing
-def hop_distances(source: int, links: Iterable[tuple[int, int]]) -> dict[int, int]:
-    """Hops from ``source`` to every robot it reaches over ``links`` (itself: 0)."""
-    neighbours: dict[int, list[int]] = {}
-    for a, b in links:
-        neighbours.setdefault(a, []).append(b)
-        neighbours.setdefault(b, []).append(a)
-    hops = {source: 0}
-    queue = deque([source])
-    while queue:
-        node = queue.popleft()
-        for nxt in neighbours.get(node, ()):
-            if nxt not in hops:
-                hops[nxt] = hops[node] + 1
-                queue.append(nxt)
-    return hops
-
-
-def hop_diameter(members: Iterable[int], links: Iterable[tuple[int, int]]) -> int:
-    """Largest number of hops between two robots of a connected sub-network.
-
-    >>> hop_diameter([0, 1, 2, 3], [(0, 1), (1, 2), (2, 3)])
-    3
-    """
-    link_list = list(links)
-    return max((max(hop_distances(m, link_list).values()) for m in members), default=0)
-
-
 @dataclass(frozen=True, slots=True)
 class SessionTiming:
     """The time parameters of §3.4 (Fig. 6), in ticks."""
@@ -471,41 +411,100 @@ class ShengBidding(Strategy):
         "exploration, Robotics and Autonomous Systems 54 (2006), §2-3"
     )
     default_sharing: ClassVar[str] = "sheng-sync"
-    params: ClassVar[Mapping[str, Param]] = {
-        "w1": Param(1.0, "1/cell", "weight of the information gain I_i", "ω1", low=0),
-        "w2": Param(1.0, "1/cell", "weight of the travel distance D_i", "ω2", low=0),
-        "w3": Param(1.5, "", "weight of the nearness measure lambda_i", "ω3", low=0),
-        "alpha": Param(0.5, "", "fading factor of eq. (1)", "α", low=0, high=1),
-        "nearness_over": Param(
-            "subnetwork",
-            "",
-            "robots eq. (1) measures to: subnetwork (its n_k) or known (all last heard of)",
-            choices=("subnetwork", "known"),
+    w1 = Param(
+        1.0,
+        "1/cell",
+        "weight of the information gain I_i",
+        "ω1",
+        low=0,
+        note="weight of the information gain `I_i` (§5)",
+    )
+    w2 = Param(
+        1.0,
+        "1/cell",
+        "weight of the travel distance D_i",
+        "ω2",
+        low=0,
+        note="weight of the travel distance `D_i` (§5)",
+    )
+    w3 = Param(
+        1.5,
+        "",
+        "weight of the nearness measure lambda_i",
+        "ω3",
+        low=0,
+        note='weight of the nearness `lambda_i` (§5; `0` = "without nearness")',
+    )
+    alpha = Param(
+        0.5,
+        "",
+        "fading factor of eq. (1)",
+        "α",
+        low=0,
+        high=1,
+        note=(
+            'fading factor of eq. (1), in [0, 1]; the paper says only "positive, smaller than 1"'
         ),
-        "eq2_units": Param(
-            "cells", "", "units of eq. (2)'s terms: cells, raw or unit-free", choices=EQ2_UNITS
+    )
+    nearness_over = Param(
+        "subnetwork",
+        "",
+        "robots eq. (1) measures to: subnetwork (its n_k) or known (all last heard of)",
+        choices=("subnetwork", "known"),
+        note=(
+            "the robots eq. (1) measures to: the `n_k` of the sub-network, or "
+            "`known`, every robot last heard of (Fig. 2's example)"
         ),
-        "comm_range": Param(
-            0.0,
-            "cells",
-            "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)",
-            "r_c",
-            low=0,
+    )
+    eq2_units = Param(
+        "cells",
+        "",
+        "units of eq. (2)'s terms: cells, raw or unit-free",
+        choices=EQ2_UNITS,
+        note=(
+            "units of eq. (2)'s terms: `cells` (`lambda_i` in units of `r_c` "
+            "cells), `raw` (the literal sum) or `unit-free` (see Interpretations)"
         ),
-        "bid_time": Param(1, "ticks", "bidding time (at least T_grace is used)", "t_bid", low=1),
-        "session_floor": Param(
-            "grace",
-            "",
-            "least t_bid: grace (T_grace, so T_win >= 0) or delay (t_d)",
-            choices=("grace", "delay"),
+    )
+    comm_range = Param(
+        0.0,
+        "cells",
+        "r_c of eq. (1); 0 = the run's --comm-range (16 if unlimited)",
+        "r_c",
+        low=0,
+        note=(
+            "communication range in eq. (1); 0 = the run's `--comm-range`, or 16 "
+            "(section 5) when unlimited; `inf` makes every term 1: no pull"
         ),
-        "declare_timeout": Param(
-            0, "ticks", "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d", low=0
+    )
+    bid_time = Param(
+        1,
+        "ticks",
+        "bidding time (at least T_grace is used)",
+        "t_bid",
+        low=1,
+        note=("bidding time (paper: 1.5 s); the session lasts `max(bid_time, T_grace)`"),
+    )
+    session_floor = Param(
+        "grace",
+        "",
+        "least t_bid: grace (T_grace, so T_win >= 0) or delay (t_d)",
+        choices=("grace", "delay"),
+        note=(
+            "the least `t_bid`: `grace` (`T_grace`, so `T_win >= 0`) or `delay` "
+            "(`t_d`, the earlier reading; `T_win` can be -1)"
         ),
-        "replan_on_target_explored": Param(
-            False, "", "stop and bid again when the target is no longer a frontier cell"
-        ),
-    }
+    )
+    declare_timeout = Param(
+        0,
+        "ticks",
+        "wait for a winner past t_bid at most this long; 0 = t_bid + 2 t_d",
+        low=0,
+        note=("longest wait past `t_bid` for a winner's declaration; 0 = `t_bid + 2 t_d`"),
+    )
+    replan_on_target_explored = Param(
+        False, "", "stop and bid again when the target is no longer a frontier cell"
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -545,7 +544,7 @@ class ShengBidding(Strategy):
 
         if self.state == TRAVELLING:
             if view.goal is not None:
-                explored = bool(self.p["replan_on_target_explored"]) and not frontier_at(
+                explored = self.replan_on_target_explored and not frontier_at(
                     view.belief, *view.goal
                 )
                 if not explored:
@@ -602,19 +601,17 @@ class ShengBidding(Strategy):
     def _absorb(self, view: RobotView) -> tuple[bool, bool]:
         """Update the tables from the inbox; return (a winner declared, a new bidder)."""
         declared = new_bidder = False
-        bids = [
-            m.payload for m in view.inbox if m.type == BID and isinstance(m.payload, BidPayload)
-        ]
+        bids = [m.payload for m in view.inbox if m.type == BID and isinstance(m.payload, BidItem)]
         bidding = {bid.robot for bid in bids}
         for message in view.inbox:
             payload = message.payload
-            if message.type == POSITION and isinstance(payload, PositionPayload):
-                self.positions[payload.robot] = payload.position
+            if message.type == POSITION and isinstance(payload, CellItem):
+                self.positions[payload.robot] = payload.cell
                 self.targets.pop(payload.robot, None)
                 if payload.robot not in bidding:  # not bidding: its earlier bid is over
                     self.bids.pop(payload.robot, None)
-            elif message.type in (WINNER, TARGET) and isinstance(payload, TargetPayload):
-                self.targets[payload.robot] = payload.target
+            elif message.type in (WINNER, TARGET) and isinstance(payload, CellItem):
+                self.targets[payload.robot] = payload.cell
                 self.positions.pop(payload.robot, None)
                 if message.type == WINNER:
                     declared = True
@@ -624,9 +621,9 @@ class ShengBidding(Strategy):
             if heard is None:
                 new_bidder = True
                 begin = view.tick - view.comm_latency * self._hops(view).get(bid.robot, 1)
-                self.bids[bid.robot] = _HeardBid(bid.value, bid.target, begin)
+                self.bids[bid.robot] = _HeardBid(bid.value, bid.cell, begin)
             else:
-                heard.value, heard.target = bid.value, bid.target
+                heard.value, heard.target = bid.value, bid.cell
         return declared, new_bidder
 
     def _hops(self, view: RobotView) -> dict[int, int]:
@@ -656,24 +653,25 @@ class ShengBidding(Strategy):
     # ------------------------------------------------------------------ messages out
     def _announce(self, view: RobotView) -> Message:
         if self.state == TRAVELLING and view.goal is not None:
-            payload = TargetPayload(self.robot_id, view.goal)
-            return Message(TARGET, self.robot_id, BROADCAST, fixed_size(TARGET_BYTES), payload)
-        position = PositionPayload(self.robot_id, view.position)
-        return Message(POSITION, self.robot_id, BROADCAST, fixed_size(POSITION_BYTES), position)
+            return item_message(
+                TARGET, self.robot_id, BROADCAST, CellItem(self.robot_id, view.goal)
+            )
+        return self._position_message(view)
+
+    def _position_message(self, view: RobotView) -> Message:
+        position = CellItem(self.robot_id, view.position)
+        return item_message(POSITION, self.robot_id, BROADCAST, position)
 
     def _bid_message(self, bid: Bid) -> Message:
-        payload = BidPayload(self.robot_id, bid.target, bid.value)
-        return Message(BID, self.robot_id, BROADCAST, fixed_size(BID_BYTES), payload)
+        payload = BidItem(self.robot_id, bid.target, bid.value)
+        return item_message(BID, self.robot_id, BROADCAST, payload)
 
     # ------------------------------------------------------------------ states
     def _sense(self, view: RobotView, out: list[Message], announced: bool) -> Decision:
         """Sensing and mapping is over (the simulator sensed): announce, then bid or wait."""
         self.state = SENSING
         if not announced:
-            position = PositionPayload(self.robot_id, view.position)
-            out.append(
-                Message(POSITION, self.robot_id, BROADCAST, fixed_size(POSITION_BYTES), position)
-            )
+            out.append(self._position_message(view))
         self.timing = self._current_timing(view)
         live = self._live_bids(view)
         if live:
@@ -700,7 +698,7 @@ class ShengBidding(Strategy):
 
     def _r_c(self, view: RobotView) -> float:
         """r_c of eq. (1): the parameter, else the run's range, else the paper's 16."""
-        given = float(self.p["comm_range"])
+        given = self.comm_range
         if given > 0:
             return given
         return view.comm_range if math.isfinite(view.comm_range) else PAPER_R_C
@@ -712,7 +710,7 @@ class ShengBidding(Strategy):
     def _evaluate(self, view: RobotView) -> tuple[Bid, npt.NDArray[np.float64]] | None:
         others = view.subnetwork - {self.robot_id}
         near: list[Cell] | None = None
-        if self.p["nearness_over"] == "known":  # eq. (1) over every robot last heard of
+        if self.nearness_over == "known":  # eq. (1) over every robot last heard of
             known = {**self.positions, **self.targets}
             near = [cell for robot, cell in sorted(known.items()) if robot != self.robot_id]
         return compute_bid(
@@ -722,11 +720,11 @@ class ShengBidding(Strategy):
             [cell for robot, cell in sorted(self.targets.items()) if robot in others],
             sensor_range=view.sensor_range,
             comm_range=self._r_c(view),
-            alpha=float(self.p["alpha"]),
-            w1=float(self.p["w1"]),
-            w2=float(self.p["w2"]),
-            w3=float(self.p["w3"]),
-            units=str(self.p["eq2_units"]),
+            alpha=self.alpha,
+            w1=self.w1,
+            w2=self.w2,
+            w3=self.w3,
+            units=self.eq2_units,
             nearness_cells=near,
         )
 
@@ -734,7 +732,9 @@ class ShengBidding(Strategy):
         """No better bid: declare (Fig. 5 ``broadcast(my_ID)``) and travel."""
         assert self.my_bid is not None
         goal = self.my_bid.target
-        path = self._path_to(view, goal) if frontier_at(view.belief, *goal) else None
+        path = None
+        if goal != view.position and frontier_at(view.belief, *goal):
+            path = path_to(passable(view.belief), view.position, goal)
         if path is None:  # the target went stale during the session: recompute
             result = self._evaluate(view)
             if result is None:
@@ -745,17 +745,6 @@ class ShengBidding(Strategy):
             path = extract_path(field, goal)
         self.state = TRAVELLING
         self.bids.clear()
-        payload = TargetPayload(self.robot_id, goal)
-        out.append(Message(WINNER, self.robot_id, BROADCAST, fixed_size(TARGET_BYTES), payload))
+        declaration = CellItem(self.robot_id, goal)
+        out.append(item_message(WINNER, self.robot_id, BROADCAST, declaration))
         return Decision(goal=goal, path=path, messages=out)
-
-    @staticmethod
-    def _path_to(view: RobotView, goal: Cell) -> Path | None:
-        if goal == view.position:
-            return None
-        only_goal = np.zeros(view.belief.shape, dtype=bool)
-        only_goal[goal] = True
-        field = distance_field(passable(view.belief), view.position, targets=only_goal)
-        if not math.isfinite(field[goal]):
-            return None
-        return extract_path(field, goal)

@@ -38,23 +38,25 @@ The method, step by step (``F`` = frontier cells, ``R`` = sensor range in cells)
 3. The coordinator sends each robot its goal; the robot plans a path to it on
    its own belief.
 
-Parameters:
+Parameters (rendered from ``Simmons.params`` by :mod:`mrexplore.strategies.doc`):
 
-=============================  ======  =======  =====  =========================================
-name                           symbol  default  unit   meaning
-=============================  ======  =======  =====  =========================================
-``cost_weight``                w       4.0      -      weight of the travel cost in the bid
-                                                       ``I - w C`` (gain and cost both in cells;
-                                                       the paper gives none, see below)
-``bids_per_robot``             k       5        -      bids a robot sends per request
-``bid_separation``             -       0.0      cells  least Euclidean distance between two bids
-                                                       of one robot; 0 = the sensor range ``R``
-``line_of_sight``              -       False    -      count only unknown cells in line of sight
-                                                       (in the belief) in ``I`` and ``O``
-``request_timeout``            -       5        ticks  resend bids if no assignment came back
-                                                       (at least ``2 x latency + 1``)
-``replan_*``                   -                       see :data:`REPLAN_PARAMS`
-=============================  ======  =======  =====  =========================================
+.. params:begin simmons
+
+===================  ======  =======  =====  =======================================================
+name                 symbol  default  unit   meaning
+===================  ======  =======  =====  =======================================================
+``cost_weight``      w       4.0      -      weight of the travel cost in `I - w C` (both in cells)
+``bids_per_robot``   k       5        -      bids a robot sends per request
+``bid_separation``   -       0.0      cells  least Euclidean distance between two bids of one robot;
+                                             0 = `R`
+``line_of_sight``    -       false    -      count only unknown cells in line of sight (in the
+                                             belief) in `I` and `O`
+``request_timeout``  -       5        ticks  resend bids if no assignment came back (at least `2 x
+                                             latency + 1`)
+ReplanRules          -                       shared: ``strategies.base``
+===================  ======  =======  =====  =======================================================
+
+.. params:end
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`):
 
@@ -111,34 +113,23 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, TARGET_BYTES, fixed_size, float32_on_wire
-from mrexplore.comm.messages import ASSIGN, BID, Message
-from mrexplore.errors import ScenarioError
+from mrexplore.comm.bytes import BID_BYTES, HEADER_BYTES, float32_on_wire
+from mrexplore.comm.messages import BID, BidItem, Message
 from mrexplore.grid.occupancy import BeliefGrid
-from mrexplore.planning import (
-    clip_radius,
-    disk_offsets,
-    distance_field,
-    extract_path,
-    frontier_mask,
-    information_gain,
-)
+from mrexplore.planning import disk_mask, distance_field, frontier_mask, information_gain
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
-    FrontierStrategy,
     Param,
     RobotView,
     passable,
     reachable_frontier_cells,
 )
-from mrexplore.strategies.burgard import AssignPayload
+from mrexplore.strategies.coordinated import CoordinatedStrategy
 
 __all__ = [
     "Bid",
@@ -147,19 +138,12 @@ __all__ = [
     "assign_bids",
     "bid_value",
     "bids_size",
-    "disk_mask",
     "overlap",
     "select_bids",
 ]
 
-
-@dataclass(frozen=True, slots=True)
-class Bid:
-    """One bid: robot ``robot`` offers ``value = I - w C`` for frontier cell ``cell``."""
-
-    robot: int
-    cell: Cell
-    value: float
+Bid = BidItem
+"""One bid: robot ``robot`` offers ``value = I - w C`` for frontier cell ``cell``."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -218,24 +202,6 @@ def select_bids(
         open_ &= ~near
         open_[best] = False
     return np.asarray(chosen, dtype=np.int64)
-
-
-def disk_mask(
-    shape: tuple[int, int], centres: Iterable[Cell], radius: float
-) -> npt.NDArray[np.bool_]:
-    """``H x W`` mask of the cells within ``radius`` (cells) of any of ``centres``.
-
-    >>> disk_mask((3, 4), [(1, 1)], 1.0).astype(int).tolist()
-    [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
-    """
-    mask = np.zeros(shape, dtype=bool)
-    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
-    for row, col in centres:
-        rows = offsets[:, 0] + row
-        cols = offsets[:, 1] + col
-        inside = (rows >= 0) & (rows < shape[0]) & (cols >= 0) & (cols < shape[1])
-        mask[rows[inside], cols[inside]] = True
-    return mask
 
 
 def overlap(
@@ -300,32 +266,46 @@ def assign_bids(
     return result
 
 
-class Simmons(FrontierStrategy):
+class Simmons(CoordinatedStrategy):
     """Simmons et al. 2000, coordinated by the lowest-id robot of each sub-network."""
 
     id = "simmons"
     summary = "Simmons et al. 2000: information-gain bids, central greedy assignment"
     citation = "R. Simmons et al., Coordination for multi-robot exploration and mapping, AAAI 2000"
-    params: ClassVar[Mapping[str, Param]] = {
-        "cost_weight": Param(4.0, "", "weight w of travel cost in the bid I - w C", "w", low=0),
-        "bids_per_robot": Param(5, "", "bids a robot sends per request", "k", low=1),
-        "bid_separation": Param(
-            0.0, "cells", "least distance between two bids of a robot; 0 = sensor range", low=0
-        ),
-        "line_of_sight": Param(False, "", "count only unknown cells in line of sight"),
-        "request_timeout": Param(5, "ticks", "resend bids after this many ticks", low=1),
-        **REPLAN_PARAMS,
-    }
+    cost_weight = Param(
+        4.0,
+        "",
+        "weight w of travel cost in the bid I - w C",
+        "w",
+        low=0,
+        note="weight of the travel cost in `I - w C` (both in cells)",
+    )
+    bids_per_robot = Param(5, "", "bids a robot sends per request", "k", low=1)
+    bid_separation = Param(
+        0.0,
+        "cells",
+        "least distance between two bids of a robot; 0 = sensor range",
+        low=0,
+        note="least Euclidean distance between two bids of one robot; 0 = `R`",
+    )
+    line_of_sight = Param(
+        False,
+        "",
+        "count only unknown cells in line of sight",
+        note=("count only unknown cells in line of sight (in the belief) in `I` and `O`"),
+    )
+    request_timeout = Param(
+        5,
+        "ticks",
+        "resend bids after this many ticks",
+        low=1,
+        note="resend bids if no assignment came back (at least `2 x latency + 1`)",
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        if int(self.p["bids_per_robot"]) < 1:
-            raise ScenarioError(f"--set bids_per_robot={self.p['bids_per_robot']}: must be >= 1")
-        # Coordinator state: bids waiting for a round and goals it has assigned.
+        # Coordinator state: bids waiting for a round (and the goals it has assigned).
         self.pending_bids: dict[int, tuple[Bid, ...]] = {}
-        self.held_goals: dict[int, Cell] = {}
-        # Member state: when the last bids went out (-1: none outstanding).
-        self.requested_at = -1
 
     # ------------------------------------------------------------------ step 1
     def make_bids(self, view: RobotView) -> tuple[Bid, ...]:
@@ -341,11 +321,11 @@ class Simmons(FrontierStrategy):
             view.belief,
             np.column_stack((rows, cols)),
             view.sensor_range,
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
-        values = bid_value(gains, dist[rows, cols], float(self.p["cost_weight"]))
-        separation = float(self.p["bid_separation"]) or view.sensor_range
-        chosen = select_bids(rows, cols, values, int(self.p["bids_per_robot"]), separation)
+        values = bid_value(gains, dist[rows, cols], self.cost_weight)
+        separation = self.bid_separation or view.sensor_range
+        chosen = select_bids(rows, cols, values, self.bids_per_robot, separation)
         sent = float32_on_wire(values[chosen])
         return tuple(
             Bid(self.robot_id, (int(rows[i]), int(cols[i])), float(value))
@@ -354,16 +334,13 @@ class Simmons(FrontierStrategy):
 
     # ------------------------------------------------------------------ tick
     def decide(self, view: RobotView) -> Decision:
-        coordinator = min(view.subnetwork)
-        assignment: Cell | None = None
+        coordinator = self.coordinator(view)
+        assignment = self.assignment(view)
         for message in view.inbox:
             payload = message.payload
             if message.type == BID and isinstance(payload, BidsPayload):
                 self.pending_bids[payload.robot] = payload.bids
                 self.held_goals.pop(payload.robot, None)
-            elif message.type == ASSIGN and isinstance(payload, AssignPayload):
-                if payload.robot == self.robot_id:
-                    assignment = payload.goal
 
         needs_goal = self.needs_plan(view)
         if self.robot_id == coordinator:
@@ -372,7 +349,7 @@ class Simmons(FrontierStrategy):
         self.held_goals.clear()
         decision = Decision()
         if assignment is not None:
-            decision = self._follow(view, assignment)
+            decision = self.follow(view, assignment)
             if decision.goal is not None:
                 self.requested_at = -1
                 return decision
@@ -389,27 +366,15 @@ class Simmons(FrontierStrategy):
         return decision
 
     def _request_due(self, view: RobotView) -> bool:
-        timeout = max(int(self.p["request_timeout"]), 2 * view.comm_latency + 1)
+        timeout = max(self.request_timeout, 2 * view.comm_latency + 1)
         return self.requested_at < 0 or view.tick - self.requested_at >= timeout
-
-    def _follow(self, view: RobotView, goal: Cell) -> Decision:
-        """Adopt an assigned goal, planning the path on this robot's own belief."""
-        if goal == view.position:
-            return Decision()
-        only_goal = np.zeros(view.belief.shape, dtype=bool)
-        only_goal[goal] = True
-        dist = distance_field(passable(view.belief), view.position, targets=only_goal)
-        if not np.isfinite(dist[goal]):
-            return Decision()
-        self.last_plan_tick = view.tick
-        return Decision(goal=goal, path=extract_path(dist, goal))
 
     # ------------------------------------------------------------------ step 2
     def _coordinate(self, view: RobotView, needs_goal: bool) -> Decision:
         """Coordinator: serve the pending bids (its own included) by :func:`assign_bids`."""
         members = view.subnetwork
         self.pending_bids = {r: b for r, b in self.pending_bids.items() if r in members}
-        self.held_goals = {r: g for r, g in self.held_goals.items() if r in members}
+        self.keep_members(members)
         if needs_goal and self._request_due(view):
             self.requested_at = view.tick
             self.pending_bids[self.robot_id] = self.make_bids(view)
@@ -423,20 +388,13 @@ class Simmons(FrontierStrategy):
             view.belief,
             view.sensor_range,
             [g for r, g in self.held_goals.items() if r not in self.pending_bids],
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
         decision = Decision()
         own_bids = self.pending_bids.get(self.robot_id)
         for robot, goal in assigned.items():
             self.held_goals[robot] = goal
-            if robot == self.robot_id:
-                own = self._follow(view, goal)
-                decision.goal, decision.path = own.goal, own.path
-            else:
-                payload = AssignPayload(robot, goal)
-                decision.messages.append(
-                    Message(ASSIGN, self.robot_id, robot, fixed_size(TARGET_BYTES), payload)
-                )
+            self.hand_out(view, decision, robot, goal)
         if own_bids is not None:
             if decision.goal is None:
                 # Nothing reachable to assign itself: stop, and try again after the timeout.

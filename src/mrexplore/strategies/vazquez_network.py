@@ -60,61 +60,81 @@ What is implemented (paper section -> code):
   re-planning rules of :data:`REPLAN_PARAMS` (re-planning when the frontier has
   been explored is off by default: the paper re-plans on arrival).
 
-Parameters:
+Parameters (rendered from ``VazquezNetwork.params`` by :mod:`mrexplore.strategies.doc`):
 
-=========================  ======  ==========  =====  ==========================================
-name                       symbol  default     unit   meaning
-=========================  ======  ==========  =====  ==========================================
-``comm_range``             d3      0           cells  communication range; 0 = the run's
-                                                      ``--comm-range`` in cells; inf = the
-                                                      network cannot break, no constraints
-``d2_fraction``            d2      0.9         -      preventive constraint ``d2 = 0.9 d3``
-``d1_sensor_diameters``    d1      1.5         -      collision constraint in sensor diameters,
-                                                      ``d1 = 1.5 x 2 R``
-``d1_max_fraction``        -       0.75        -      cap ``d1 <= 0.75 d2`` (comfort zone never
-                                                      empty; see interpretations)
-``cost_weight``            w       1.0         -      weight of the travel cost in ``U - w C``
-``utility_unit``           -       ticks       -      ``U`` as ``U / (2R + 1)`` ticks, or cells
-``discount_around``        -       both        -      ``U`` leaves out cells near other robots'
-                                                      destinations, positions, or both
-``line_of_sight``          -       False       -      count only unknown cells in line of sight
-                                                      (in the belief) in ``U``
-``position_period``        k       2           ticks  broadcast the position every k ticks
-``constrain_bridges``      -       stretched   -      bridge neighbours constrain when farther
-                                                      than d2 (stretched) or always
-``constraint_memory``      -       0           ticks  keep a neighbour constraining after the
-                                                      pair is back within d2 (always: after
-                                                      its link stopped being a bridge); 0 =
-                                                      ``memory_ranges x d3 / speed``, >= 10
-``memory_ranges``          -       1.0         d3     the default memory in ranges of travel
-``zone_between_pair``      -       True        -      a stretched pair searches within d2 of
-                                                      both robots ("between the pair")
-``no_frontier_rule``       -       approach    -      no frontier in the zone: approach the
-                                                      stretched neighbour (else the lowest id
-                                                      explores, the others go with it), or
-                                                      convoy (by hops to the root)
-``follow_distance``        -       2.0         cells  how close a convoy follower, or a robot
-                                                      returning to a lost neighbour, gets
-``reconnect_timeout``      -       0           ticks  give up going back to a lost neighbour;
-                                                      0 = ``4 d3 / speed`` ticks, at least 50
-``abort_memory``           -       0           ticks  leave a frontier given up for a
-                                                      constraint to the others; 0 = as above
-``zone_includes_targets``  -       False       -      also keep the destination in the comfort
-                                                      zone of each neighbour's destination
-``resolve_conflicts``      -       True        -      re-plan when a lower id announces a
-                                                      destination within ``R`` of one's own
-``replan_on_behaviour``    -       reroute-    -      on a change into or out of avoid-
-                                   collision              collision re-route to the goal (§3.3.2),
-                                                      re-plan on any other change of behaviour;
-                                                      ``any``: re-plan on every change;
-                                                      ``connectivity``: only into and out of
-                                                      achieve-connectivity
-``broken_bridge_frontier`` -       lower-      -      a bridge link broke: both go back, the
-                                   keeps                  lower id keeps its frontier to resume
-                                                      it; or ``both-leave`` theirs to others
-``replan_*``               -                          see :data:`REPLAN_PARAMS`;
-                                                      ``replan_on_target_explored`` False
-=========================  ======  ==========  =====  ==========================================
+.. params:begin vazquez-network
+
+=============================  ======  =================  =====  ===================================
+name                           symbol  default            unit   meaning
+=============================  ======  =================  =====  ===================================
+``comm_range``                 d3      0.0                cells  communication range; 0 = the run's
+                                                                 `--comm-range` (cells); inf = no
+                                                                 constraints
+``d2_fraction``                d2      0.9                -      `d2 = 0.9 d3` (paper)
+``d1_sensor_diameters``        d1      1.5                -      `d1 = 1.5 x 2 R` (paper: 3/2 of the
+                                                                 sensor diameter)
+``d1_max_fraction``            -       0.75               -      cap `d1 <= 0.75 d2` so the comfort
+                                                                 zone is never empty
+``cost_weight``                w       1.0                -      weight of travel cost in `U - w C`
+``line_of_sight``              -       false              -      count only unknown cells in line of
+                                                                 sight (in the belief) in `U`
+``position_period``            k       2                  ticks  broadcast the position every k
+                                                                 ticks
+``follow_distance``            -       2.0                cells  how close a `convoy` follower, or a
+                                                                 robot returning to a lost
+                                                                 neighbour, gets
+``reconnect_timeout``          -       0                  ticks  give up going back to a lost
+                                                                 neighbour; 0 = `4 d3 / speed`, at
+                                                                 least 50
+``zone_includes_targets``      -       false              -      also require the comfort zone
+                                                                 around each constraining
+                                                                 neighbour's announced destination
+                                                                 (ours)
+``constraint_memory``          -       0                  ticks  keep a neighbour constraining after
+                                                                 the pair is back within `d2`
+                                                                 (`always`: after its link stopped
+                                                                 being a bridge); 0 = `memory_ranges
+                                                                 x d3 / speed`, at least 10
+``memory_ranges``              -       1.0                d3     the default memory in ranges of
+                                                                 travel
+``resolve_conflicts``          -       true               -      re-plan when a lower id announces a
+                                                                 destination within `R` of one's own
+``abort_memory``               -       0                  ticks  leave a frontier given up for a
+                                                                 constraint to the others; 0 = `4 d3
+                                                                 / speed`, at least 50
+``constrain_bridges``          -       stretched          -      a bridge neighbour constrains when
+                                                                 beyond `d2` (`stretched`) or
+                                                                 `always`
+``broken_bridge_frontier``     -       lower-keeps        -      a bridge link broke: both go back,
+                                                                 the lower id keeps its frontier and
+                                                                 resumes it once reconnected, the
+                                                                 higher leaves its own to the
+                                                                 others; `both-leave`: both leave
+                                                                 theirs
+``zone_between_pair``          -       true               -      a stretched pair searches within
+                                                                 `d2` of both robots
+``no_frontier_rule``           -       approach           -      no frontier in the zone: `approach`
+                                                                 the stretched neighbour (else the
+                                                                 end nearer the root explores and
+                                                                 the others go with it) or `convoy`
+``discount_around``            -       both               -      `U` leaves out cells near other
+                                                                 robots' `destinations`,
+                                                                 `positions`, or `both`
+``utility_unit``               -       ticks              -      `U` as `U / (2R + 1)` ticks of
+                                                                 sensing, or `cells`
+``replan_on_behaviour``        -       reroute-collision  -      re-plan on any change of behaviour
+                                                                 but into or out of avoid-collision,
+                                                                 which re-routes to the current goal
+                                                                 (§3.3.2); `any`: a new plan on
+                                                                 every change; `connectivity`: only
+                                                                 into and out of achieve-
+                                                                 connectivity
+``replan_on_target_explored``  -       false              -      re-plan when the goal is no longer
+                                                                 a frontier cell
+ReplanRules                    -                                 shared: ``strategies.base``
+=============================  ======  =================  =====  ===================================
+
+.. params:end
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`, each a broadcast to the sub-network):
 
@@ -272,35 +292,34 @@ Interpretations (where the paper is silent or does not fit a grid world):
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, ClassVar
+from typing import Any
 
 import networkx as nx
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BROADCAST, POSITION_BYTES, TARGET_BYTES, fixed_size
-from mrexplore.comm.messages import TARGET, Message
+from mrexplore.comm.bytes import BROADCAST, TARGET_BYTES, fixed_size
+from mrexplore.comm.messages import TARGET, CellItem, Message, item_message
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
-    clip_radius,
-    disk_offsets,
+    disk_mask,
     distance_field,
     extract_path,
     frontier_mask,
     information_gain,
+    path_to,
 )
 from mrexplore.strategies.base import (
-    REPLAN_PARAMS,
     Cell,
     Decision,
     Param,
     Path,
+    ReplanRules,
     RobotView,
     Strategy,
     frontier_at,
@@ -327,12 +346,8 @@ _FOREVER = 2**62
 """Ticks of a default duration that ``4 d3`` makes endless (an infinite ``d3``)."""
 
 
-@dataclass(frozen=True, slots=True)
-class PositionPayload:
-    """A robot's cell (``POSITION_BYTES``: robot, row, col)."""
-
-    robot: int
-    position: Cell
+PositionPayload = CellItem
+"""A robot and its cell (``POSITION_BYTES``: robot, row, col)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -425,20 +440,8 @@ def exclusion_mask(
     >>> exclusion_mask((3, 4), [(1, 1)], 1.0).astype(int).tolist()
     [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
     """
-    points = np.array(list(centres), dtype=np.int64).reshape(-1, 2)
-    if points.shape[0] == 0:
-        return None
-    offsets = disk_offsets(clip_radius(radius, shape))  # same cells, bounded table
-    cells = (points[:, None, :] + offsets[None, :, :]).reshape(-1, 2)
-    inside = (
-        (cells[:, 0] >= 0)
-        & (cells[:, 0] < shape[0])
-        & (cells[:, 1] >= 0)
-        & (cells[:, 1] < shape[1])
-    )
-    mask = np.zeros(shape, dtype=np.bool_)
-    mask[cells[inside, 0], cells[inside, 1]] = True
-    return mask
+    cells = list(centres)
+    return disk_mask(shape, cells, radius) if cells else None
 
 
 def utility(
@@ -646,16 +649,11 @@ def route_around(free: BoolGrid, start: Cell, goal: Cell, obstacles: Sequence[Ce
         rows, cols = np.asarray(obstacles).T
         grid[rows, cols] = False
     grid[goal] = free[goal]  # a robot on the goal itself does not make it unreachable
-    target = np.zeros(grid.shape, dtype=bool)
-    target[goal] = True
-    dist = distance_field(grid, start, targets=target)
-    if not np.isfinite(dist[goal]):
-        return None
-    return extract_path(dist, goal)
+    return path_to(grid, start, goal)
 
 
 # ---------------------------------------------------------------------- strategy
-class VazquezNetwork(Strategy):
+class VazquezNetwork(Strategy, ReplanRules):
     """Vazquez & Malcolm: behaviour-based exploration keeping the mobile network."""
 
     id = "vazquez-network"
@@ -668,115 +666,185 @@ class VazquezNetwork(Strategy):
         "J. Vazquez, C. Malcolm, Distributed multirobot exploration maintaining a "
         "mobile network, IEEE Intelligent Systems (IS'04), 2004"
     )
-    params: ClassVar[Mapping[str, Param]] = {
-        "comm_range": Param(
-            0.0,
-            "cells",
-            "communication range d3; 0 = the run's --comm-range, inf = unlimited",
-            "d3",
-            low=0,
-            finite=False,
+    comm_range = Param(
+        0.0,
+        "cells",
+        "communication range d3; 0 = the run's --comm-range, inf = unlimited",
+        "d3",
+        low=0,
+        finite=False,
+        note=("communication range; 0 = the run's `--comm-range` (cells); inf = no constraints"),
+    )
+    d2_fraction = Param(
+        0.9,
+        "",
+        "preventive constraint d2 = d2_fraction x d3",
+        "d2",
+        low=0,
+        high=1,
+        low_open=True,
+        note="`d2 = 0.9 d3` (paper)",
+    )
+    d1_sensor_diameters = Param(
+        1.5,
+        "",
+        "collision constraint d1 in sensor diameters",
+        "d1",
+        low=0,
+        note="`d1 = 1.5 x 2 R` (paper: 3/2 of the sensor diameter)",
+    )
+    d1_max_fraction = Param(
+        0.75,
+        "",
+        "cap d1 at this fraction of d2",
+        low=0,
+        high=1,
+        note="cap `d1 <= 0.75 d2` so the comfort zone is never empty",
+    )
+    cost_weight = Param(
+        1.0,
+        "",
+        "weight w of travel cost in U - w C",
+        "w",
+        low=0,
+        note="weight of travel cost in `U - w C`",
+    )
+    line_of_sight = Param(
+        False,
+        "",
+        "count only unknown cells in line of sight in U",
+        note="count only unknown cells in line of sight (in the belief) in `U`",
+    )
+    position_period = Param(2, "ticks", "broadcast the position every k ticks", "k", low=1)
+    follow_distance = Param(
+        2.0,
+        "cells",
+        "how close a robot moving towards a neighbour gets",
+        low=0,
+        note=("how close a `convoy` follower, or a robot returning to a lost neighbour, gets"),
+    )
+    reconnect_timeout = Param(
+        0,
+        "ticks",
+        "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)",
+        low=0,
+        note=("give up going back to a lost neighbour; 0 = `4 d3 / speed`, at least 50"),
+    )
+    zone_includes_targets = Param(
+        False,
+        "",
+        "keep the zone around bridge neighbours' destinations too (ours)",
+        note=(
+            "also require the comfort zone around each constraining neighbour's "
+            "announced destination (ours)"
         ),
-        "d2_fraction": Param(
-            0.9,
-            "",
-            "preventive constraint d2 = d2_fraction x d3",
-            "d2",
-            low=0,
-            high=1,
-            low_open=True,
+    )
+    constraint_memory = Param(
+        0,
+        "ticks",
+        "keep a neighbour's comfort zone after reconnecting with it (and, with "
+        "constrain_bridges=always, after its link stops being a bridge); 0 = "
+        "memory_ranges x d3 of travel (at least 10 ticks)",
+        low=0,
+        note=(
+            "keep a neighbour constraining after the pair is back within `d2` "
+            "(`always`: after its link stopped being a bridge); 0 = `memory_ranges "
+            "x d3 / speed`, at least 10"
         ),
-        "d1_sensor_diameters": Param(
-            1.5, "", "collision constraint d1 in sensor diameters", "d1", low=0
+    )
+    memory_ranges = Param(
+        1.0,
+        "d3",
+        "default constraint_memory in ranges of travel (d3 / speed ticks)",
+        low=0,
+        note="the default memory in ranges of travel",
+    )
+    resolve_conflicts = Param(
+        True,
+        "",
+        "re-plan when a lower id announces a destination within R of ours",
+        note=("re-plan when a lower id announces a destination within `R` of one's own"),
+    )
+    abort_memory = Param(
+        0,
+        "ticks",
+        "leave a frontier given up for a constraint to the others this long; 0 = 4 d3 "
+        "of travel (at least 50)",
+        low=0,
+        note=(
+            "leave a frontier given up for a constraint to the others; 0 = `4 d3 / "
+            "speed`, at least 50"
         ),
-        "d1_max_fraction": Param(0.75, "", "cap d1 at this fraction of d2", low=0, high=1),
-        "cost_weight": Param(1.0, "", "weight w of travel cost in U - w C", "w", low=0),
-        "line_of_sight": Param(False, "", "count only unknown cells in line of sight in U"),
-        "position_period": Param(2, "ticks", "broadcast the position every k ticks", "k", low=1),
-        "follow_distance": Param(
-            2.0, "cells", "how close a robot moving towards a neighbour gets", low=0
+    )
+    constrain_bridges = Param(
+        "stretched",
+        "",
+        "which bridge links constrain: stretched (signal below threshold, beyond d2, "
+        "§3.1) or always (every bridge)",
+        choices=("stretched", "always"),
+        note=("a bridge neighbour constrains when beyond `d2` (`stretched`) or `always`"),
+    )
+    broken_bridge_frontier = Param(
+        "lower-keeps",
+        "",
+        "a broken bridge link: both go back, the lower id keeping its frontier to "
+        "resume (lower-keeps), or both leave theirs to the others (both-leave)",
+        choices=("lower-keeps", "both-leave"),
+        note=(
+            "a bridge link broke: both go back, the lower id keeps its frontier and "
+            "resumes it once reconnected, the higher leaves its own to the others; "
+            "`both-leave`: both leave theirs"
         ),
-        "reconnect_timeout": Param(
-            0, "ticks", "give up returning to a lost neighbour; 0 = 4 d3 (at least 50)", low=0
+    )
+    zone_between_pair = Param(
+        True,
+        "",
+        "a stretched pair searches the comfort zone between the two (within d2 of "
+        "both, §3.3.1), not around the other robot only",
+        note="a stretched pair searches within `d2` of both robots",
+    )
+    no_frontier_rule = Param(
+        "approach",
+        "",
+        "no frontier in the comfort zone: approach (move towards the stretched "
+        "partner, §3.3.1) or convoy (lead / follow / hold by distance to the root)",
+        choices=("approach", "convoy"),
+        note=(
+            "no frontier in the zone: `approach` the stretched neighbour (else the "
+            "end nearer the root explores and the others go with it) or `convoy`"
         ),
-        "zone_includes_targets": Param(
-            False, "", "keep the zone around bridge neighbours' destinations too (ours)"
+    )
+    discount_around = Param(
+        "both",
+        "",
+        "U leaves out cells within R of other robots' destinations, positions or both",
+        choices=("both", "destinations", "positions"),
+        note=("`U` leaves out cells near other robots' `destinations`, `positions`, or `both`"),
+    )
+    utility_unit = Param(
+        "ticks",
+        "",
+        "U in ticks of sensing, U / (2R + 1) (ticks, like C) or in cells",
+        choices=("ticks", "cells"),
+        note="`U` as `U / (2R + 1)` ticks of sensing, or `cells`",
+    )
+    replan_on_behaviour = Param(
+        "reroute-collision",
+        "",
+        "re-evaluate the plan on any change of behaviour but into or out of "
+        "avoid-collision, which re-routes to the goal (§3.3.2), on any change (Fig. 2), "
+        "or only into and out of achieve-connectivity",
+        choices=("any", "reroute-collision", "connectivity"),
+        note=(
+            "re-plan on any change of behaviour but into or out of avoid-collision, "
+            "which re-routes to the current goal (§3.3.2); `any`: a new plan on "
+            "every change; `connectivity`: only into and out of "
+            "achieve-connectivity"
         ),
-        "constraint_memory": Param(
-            0,
-            "ticks",
-            "keep a neighbour's comfort zone after reconnecting with it (and, with "
-            "constrain_bridges=always, after its link stops being a bridge); 0 = "
-            "memory_ranges x d3 of travel (at least 10 ticks)",
-            low=0,
-        ),
-        "memory_ranges": Param(
-            1.0, "d3", "default constraint_memory in ranges of travel (d3 / speed ticks)", low=0
-        ),
-        "resolve_conflicts": Param(
-            True, "", "re-plan when a lower id announces a destination within R of ours"
-        ),
-        "abort_memory": Param(
-            0,
-            "ticks",
-            "leave a frontier given up for a constraint to the others this long; 0 = 4 d3 "
-            "of travel (at least 50)",
-            low=0,
-        ),
-        "constrain_bridges": Param(
-            "stretched",
-            "",
-            "which bridge links constrain: stretched (signal below threshold, beyond d2, "
-            "§3.1) or always (every bridge)",
-            choices=("stretched", "always"),
-        ),
-        "broken_bridge_frontier": Param(
-            "lower-keeps",
-            "",
-            "a broken bridge link: both go back, the lower id keeping its frontier to "
-            "resume (lower-keeps), or both leave theirs to the others (both-leave)",
-            choices=("lower-keeps", "both-leave"),
-        ),
-        "zone_between_pair": Param(
-            True,
-            "",
-            "a stretched pair searches the comfort zone between the two (within d2 of "
-            "both, §3.3.1), not around the other robot only",
-        ),
-        "no_frontier_rule": Param(
-            "approach",
-            "",
-            "no frontier in the comfort zone: approach (move towards the stretched "
-            "partner, §3.3.1) or convoy (lead / follow / hold by distance to the root)",
-            choices=("approach", "convoy"),
-        ),
-        "discount_around": Param(
-            "both",
-            "",
-            "U leaves out cells within R of other robots' destinations, positions or both",
-            choices=("both", "destinations", "positions"),
-        ),
-        "utility_unit": Param(
-            "ticks",
-            "",
-            "U in ticks of sensing, U / (2R + 1) (ticks, like C) or in cells",
-            choices=("ticks", "cells"),
-        ),
-        "replan_on_behaviour": Param(
-            "reroute-collision",
-            "",
-            "re-evaluate the plan on any change of behaviour but into or out of "
-            "avoid-collision, which re-routes to the goal (§3.3.2), on any change (Fig. 2), "
-            "or only into and out of achieve-connectivity",
-            choices=("any", "reroute-collision", "connectivity"),
-        ),
-        **REPLAN_PARAMS,
-        # "If the robot arrives at the current frontier the exploration algorithm its
-        # executed" (Fig. 2): a plan ends on arrival, not when its frontier is explored.
-        "replan_on_target_explored": dataclasses.replace(
-            REPLAN_PARAMS["replan_on_target_explored"], default=False
-        ),
-    }
+    )
+    # "If the robot arrives at the current frontier the exploration algorithm its
+    # executed" (Fig. 2): a plan ends on arrival, not when its frontier is explored.
+    replan_on_target_explored = ReplanRules.replan_on_target_explored.with_default(False)
 
     def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
         super().__init__(robot_id, n_robots, **params)
@@ -808,16 +876,16 @@ class VazquezNetwork(Strategy):
     # ------------------------------------------------------------------ knowledge
     def _d3(self, view: RobotView) -> float:
         """The communication range d3 in cells: the parameter, or the run's range."""
-        given = float(self.p["comm_range"])
+        given = self.comm_range
         return given if given > 0 else view.comm_range
 
     def _radii(self, view: RobotView) -> tuple[float, float]:
         d1, d2, _d3 = comfort_distances(
             self._d3(view),
             view.sensor_range,
-            d2_fraction=float(self.p["d2_fraction"]),
-            d1_sensor_diameters=float(self.p["d1_sensor_diameters"]),
-            d1_max_fraction=float(self.p["d1_max_fraction"]),
+            d2_fraction=self.d2_fraction,
+            d1_sensor_diameters=self.d1_sensor_diameters,
+            d1_max_fraction=self.d1_max_fraction,
         )
         return d1, d2
 
@@ -832,9 +900,7 @@ class VazquezNetwork(Strategy):
         ticks = int(self.p[name])
         if ticks > 0:
             return ticks
-        ranges, least = (
-            (float(self.p["memory_ranges"]), 10) if name == "constraint_memory" else (4.0, 50)
-        )
+        ranges, least = (self.memory_ranges, 10) if name == "constraint_memory" else (4.0, 50)
         travel = ranges * self._d3(view) / view.speed  # inf for a range of about 1e308 cells
         return max(least, math.ceil(travel)) if math.isfinite(travel) else _FOREVER
 
@@ -866,7 +932,7 @@ class VazquezNetwork(Strategy):
             if isinstance(payload, PositionPayload):
                 old = self.positions.get(payload.robot)
                 if old is None or old[1] <= message.tick_sent:
-                    self.positions[payload.robot] = (payload.position, message.tick_sent)
+                    self.positions[payload.robot] = (payload.cell, message.tick_sent)
             elif isinstance(payload, TargetPayload):
                 old_target = self.destinations.get(payload.robot)
                 if old_target is not None and old_target[1] > message.tick_sent:
@@ -876,7 +942,7 @@ class VazquezNetwork(Strategy):
                     continue
                 self.destinations[payload.robot] = (payload.goal, message.tick_sent)
                 if (
-                    self.p["resolve_conflicts"]
+                    self.resolve_conflicts
                     and payload.robot < self.robot_id
                     and self.mode in (EXPLORE, LEAD)
                     and self.destination is not None
@@ -929,7 +995,7 @@ class VazquezNetwork(Strategy):
             for robot in roles.bridges
             if (cell := self._position(robot)) is not None and g(view.position, cell) >= d2 * d2
         )
-        if self.p["constrain_bridges"] == "always":
+        if self.constrain_bridges == "always":
             self.stretched = stretched
             for robot in roles.bridges:
                 self.remembered[robot] = until
@@ -957,12 +1023,10 @@ class VazquezNetwork(Strategy):
         messages: list[Message] = []
         joined = bool(view.subnetwork - self.previous_subnetwork)
         self.previous_subnetwork = view.subnetwork
-        if joined or tick - self.last_position_tick >= int(self.p["position_period"]):
+        if joined or tick - self.last_position_tick >= self.position_period:
             self.last_position_tick = tick
             payload = PositionPayload(self.robot_id, view.position)
-            messages.append(
-                Message(POSITION, self.robot_id, BROADCAST, fixed_size(POSITION_BYTES), payload)
-            )
+            messages.append(item_message(POSITION, self.robot_id, BROADCAST, payload))
         if joined and self.announced is not None:
             messages.append(self._target_message(self.announced))
 
@@ -976,7 +1040,7 @@ class VazquezNetwork(Strategy):
             collision_distance=d1,
             disconnected=bool(self.lost),
         )
-        replan = self.p["replan_on_behaviour"]
+        replan = self.replan_on_behaviour
         changed = {behaviour, self.behaviour}
         switched = behaviour != self.behaviour and (
             replan == "any"
@@ -1026,12 +1090,12 @@ class VazquezNetwork(Strategy):
             return True
         if view.goal is None:
             return view.tick >= self.hold_until
-        every = int(self.p["replan_every"])
+        every = self.replan_every
         if every > 0 and view.tick - self.last_plan_tick >= every:
             return True
-        if self.p["replan_on_new_info"] and view.new_cells > 0:
+        if self.replan_on_new_info and view.new_cells > 0:
             return True
-        if self.mode in (EXPLORE, LEAD) and self.p["replan_on_target_explored"]:
+        if self.mode in (EXPLORE, LEAD) and self.replan_on_target_explored:
             assert self.destination is not None
             return not frontier_at(view.belief, *self.destination)
         if self.mode == RETURN:
@@ -1071,7 +1135,7 @@ class VazquezNetwork(Strategy):
         self.mode = HOLD
         self.destination = None
         self.path = None
-        self.hold_until = view.tick + int(self.p["position_period"])
+        self.hold_until = view.tick + self.position_period
         return Decision(idle=True) if view.goal is not None else Decision()
 
     def _plan(
@@ -1106,14 +1170,14 @@ class VazquezNetwork(Strategy):
             # constrained to the comfort zone between the pair": within d2 of the
             # robot's own cell too.
             # A robot beyond d2 of a partner plans paths that never take it farther away.
-            between = self.p["zone_between_pair"] and bool(self.stretched & partners)
+            between = self.zone_between_pair and bool(self.stretched & partners)
             region = within_distance(view.belief.shape, [view.position], d2) if between else None
             for cell in partner_cells:
                 reach = max(d2, math.sqrt(g(view.position, cell)) + 0.5)
                 near = within_distance(view.belief.shape, [cell], reach)
                 region = near if region is None else region & near
             anchors = list(partner_cells)
-            if self.p["zone_includes_targets"]:
+            if self.zone_includes_targets:
                 anchors += [
                     self.destinations[r][0] for r in sorted(partners) if r in self.destinations
                 ]
@@ -1189,19 +1253,19 @@ class VazquezNetwork(Strategy):
             cells,
             view.sensor_range,
             self._discount_centres(view),
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
         gain = cells_gained.astype(np.float64)
-        if self.p["utility_unit"] == "ticks":  # the ticks a moving sensor needs to gain U
+        if self.utility_unit == "ticks":  # the ticks a moving sensor needs to gain U
             gain /= 2 * view.sensor_range + 1
-        return dist, cells, net_value(gain, dist[rows, cols], float(self.p["cost_weight"]))
+        return dist, cells, net_value(gain, dist[rows, cols], self.cost_weight)
 
     def _discount_centres(self, view: RobotView) -> list[Cell]:
         """§3.2: "The utility expected by a robot considering moving to a particular
         frontier is lessened if there are any robots near that destination": the cells
         around other robots' announced destinations and (``discount_around``) around
         the last reported cells of the other robots of the sub-network."""
-        around = self.p["discount_around"]
+        around = self.discount_around
         centres: list[Cell] = []
         if around in ("both", "destinations"):
             centres += [cell for _robot, (cell, _tick) in sorted(self.destinations.items())]
@@ -1225,7 +1289,7 @@ class VazquezNetwork(Strategy):
         beyond ``d2`` until mid-zone; a robot constrained only by memory explores
         unconstrained. ``convoy``: approach, wait, follow or lead (see interpretations)."""
         position = view.position
-        if self.p["no_frontier_rule"] == "approach":
+        if self.no_frontier_rule == "approach":
             far = [(g(position, c), c) for c in self._cells(partners) if g(position, c) >= d2 * d2]
             if far:
                 return self._towards(view, APPROACH, max(far)[1], (d1 + d2) / 2, close)
@@ -1251,10 +1315,10 @@ class VazquezNetwork(Strategy):
             return self._hold(view)  # a stretched follower comes back to us
         leader_cells = self._cells_in_order(leaders)
         if leader_cells:
-            radius = float(self.p["follow_distance"])
+            radius = self.follow_distance
             return self._towards(view, FOLLOW, leader_cells[0], radius, close)
         found = None
-        if self.p["no_frontier_rule"] == "approach" and follower_cells:
+        if self.no_frontier_rule == "approach" and follower_cells:
             # The end explores "its path kept within d2 of the others": a frontier it can
             # reach without leaving d2 of any of them, if there is one (choosing first and
             # cutting the path after left a chain whose best frontiers lay beyond d2
@@ -1291,7 +1355,7 @@ class VazquezNetwork(Strategy):
         (``broken_bridge_frontier=lower-keeps``): it goes back keeping its frontier, to
         resume it once reconnected, unless it is already heading for a frontier it
         resumed (kept once: a link that breaks again on the way gives it up)."""
-        lower = self.p["broken_bridge_frontier"] == "lower-keeps"
+        lower = self.broken_bridge_frontier == "lower-keeps"
         again = self.destination is not None and self.destination == self.resumed
         return lower and bool(self.lost) and self.robot_id < min(self.lost) and not again
 
@@ -1307,7 +1371,7 @@ class VazquezNetwork(Strategy):
         """Disconnected: head back to the nearest lost neighbour's last known position."""
         robot = min(self.lost, key=lambda r: (g(view.position, self.lost[r][0]), r))
         cell = self.lost[robot][0]
-        decision = self._towards(view, RETURN, cell, float(self.p["follow_distance"]), close)
+        decision = self._towards(view, RETURN, cell, self.follow_distance, close)
         if decision.goal is None:  # it is there (or cannot get closer): give up on it
             del self.lost[robot]
             self.behaviour = MAINTAIN_CONNECTIVITY

@@ -51,24 +51,28 @@ cells over cells the robot knows to be free):
 6. **Execution.** The robot drives to the first goal of its tour; goals that are
    reached or no longer frontier cells (explored, by anyone) are dropped.
 
-Parameters:
+Parameters (rendered from ``ZlotMarket.params`` by :mod:`mrexplore.strategies.doc`):
 
-=====================  ======  =======  =====  ==============================================
+.. params:begin zlot-market
+
+=====================  ======  =======  =====  =====================================================
 name                   symbol  default  unit   meaning
-=====================  ======  =======  =====  ==============================================
-``revenue_weight``     w_r     1.0      -      revenue per unknown cell expected to be seen,
-                                               in cells of travel
+=====================  ======  =======  =====  =====================================================
+``revenue_weight``     w_r     1.0      -      revenue per unknown cell expected to be seen, in
+                                               cells of travel
 ``goals_per_round``    -       3        -      goal points drawn per generation
-``goal_spacing``       -       0.0      cells  least distance between goal points;
-                                               0 = the sensor range ``R``
-``generation_radius``  -       1.0      cells  draw goals at most this far (path) beyond the
-                                               nearest unclaimed candidate
-``min_tour``           -       1        -      generate goals when the tour is shorter
-``auction_ticks``      -       2        ticks  auction duration, raised to
-                                               ``2 x latency x hops`` to the farthest robot
-``reauction_every``    -       10       ticks  re-auction the least valued goal (0 = never)
-``line_of_sight``      -       False    -      count only unknown cells in line of sight
-=====================  ======  =======  =====  ==============================================
+``goal_spacing``       -       0.0      cells  least Euclidean distance between goal points; 0 = `R`
+``generation_radius``  -       1.0      cells  draw goals at most this far (path) beyond the nearest
+                                               unclaimed frontier cell
+``min_tour``           -       1        -      generate goals when the tour holds fewer goals
+``auction_ticks``      -       2        ticks  auction duration, raised to `2 x latency x hops`
+``reauction_every``    -       10       ticks  re-auction the least valued goal of the tour (0 =
+                                               never)
+``line_of_sight``      -       false    -      count only unknown cells in line of sight (in the
+                                               belief) in `I`
+=====================  ======  =======  =====  =====================================================
+
+.. params:end
 
 Messages (sizes from :mod:`mrexplore.comm.bytes`):
 
@@ -123,24 +127,15 @@ Interpretations (where the sources are silent):
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm.bytes import BID_BYTES, BROADCAST, TARGET_BYTES, fixed_size, float32_on_wire
-from mrexplore.comm.messages import BID, Message
-from mrexplore.errors import ScenarioError
-from mrexplore.planning import (
-    SQRT2,
-    distance_field,
-    extract_path,
-    frontier_mask,
-    information_gain,
-)
+from mrexplore.comm.bytes import BROADCAST, float32_on_wire
+from mrexplore.comm.messages import BID, BidItem, CellItem, Message, item_message
+from mrexplore.planning import SQRT2, distance_field, frontier_mask, information_gain, path_to
 from mrexplore.planning.distance import count_field, distance_field_kernel
 from mrexplore.strategies.base import (
     Cell,
@@ -152,6 +147,7 @@ from mrexplore.strategies.base import (
     passable,
     reachable_frontier_cells,
 )
+from mrexplore.strategies.network import hop_distances
 
 __all__ = [
     "AUCTION",
@@ -172,39 +168,16 @@ __all__ = [
 AUCTION = "auction"
 AWARD = "award"
 
-AUCTION_SIZE = fixed_size(BID_BYTES)
-"""Announcement: auctioneer uint16, goal row/col uint16, reserve float32 (a bid item)."""
-BID_SIZE = fixed_size(BID_BYTES)
-AWARD_SIZE = fixed_size(TARGET_BYTES)
-
 GENERATION_RETRY_TICKS = 5
 """Ticks between two attempts to generate goals when the last one found no frontier."""
 
-
-@dataclass(frozen=True, slots=True)
-class AuctionPayload:
-    """An auction announcement: ``goal`` is for sale above ``reserve``."""
-
-    auctioneer: int
-    goal: Cell
-    reserve: float
-
-
-@dataclass(frozen=True, slots=True)
-class BidPayload:
-    """A sealed bid of ``bidder`` for ``goal`` (sent to its auctioneer only)."""
-
-    bidder: int
-    goal: Cell
-    value: float
-
-
-@dataclass(frozen=True, slots=True)
-class AwardPayload:
-    """The auctioneer sold ``goal`` to ``winner``."""
-
-    winner: int
-    goal: Cell
+# The three messages carry items of the byte model (mrexplore.comm.messages).
+AuctionPayload = BidItem
+"""An auction announcement, a bid item: the auctioneer, the goal for sale, the reserve."""
+BidPayload = BidItem
+"""A sealed bid (sent to the auctioneer only): the bidder, the goal, its value."""
+AwardPayload = CellItem
+"""The auctioneer sold the goal (``cell``) to the winner (``robot``)."""
 
 
 @dataclass
@@ -320,19 +293,7 @@ def hops_to_farthest(robot: int, links: Iterable[tuple[int, int]]) -> int:
     >>> hops_to_farthest(0, [(0, 1), (1, 2)])
     2
     """
-    neighbours: dict[int, set[int]] = {}
-    for a, b in links:
-        neighbours.setdefault(a, set()).add(b)
-        neighbours.setdefault(b, set()).add(a)
-    depth = {robot: 0}
-    queue = deque([robot])
-    while queue:
-        node = queue.popleft()
-        for nxt in neighbours.get(node, ()):
-            if nxt not in depth:
-                depth[nxt] = depth[node] + 1
-                queue.append(nxt)
-    return max(depth.values())
+    return max(hop_distances(robot, links).values())
 
 
 def octile_distances(cell: Cell, others: Sequence[Cell]) -> npt.NDArray[np.float64]:
@@ -425,33 +386,59 @@ class ZlotMarket(Strategy):
         "R. Zlot, A. Stentz, M. B. Dias, S. Thayer, Multi-robot exploration controlled "
         "by a market economy, ICRA 2002"
     )
-    params: ClassVar[Mapping[str, Param]] = {
-        "revenue_weight": Param(
-            1.0, "", "revenue per unknown cell, in cells of travel", "w_r", low=0
-        ),
-        "goals_per_round": Param(3, "", "goal points drawn per generation", low=1),
-        "goal_spacing": Param(
-            0.0, "cells", "least distance between goals; 0 = sensor range", low=0
-        ),
-        "generation_radius": Param(
-            1.0, "cells", "draw goals at most this far (path) beyond the nearest candidate", low=0
-        ),
-        "min_tour": Param(1, "", "generate new goals when the tour is shorter than this", low=1),
-        "auction_ticks": Param(2, "ticks", "auction duration (at least 2 x latency x hops)", low=1),
-        "reauction_every": Param(
-            10, "ticks", "re-auction the least valued goal (0 = never)", low=0
-        ),
-        "line_of_sight": Param(False, "", "count only unknown cells in line of sight"),
-    }
+    revenue_weight = Param(
+        1.0,
+        "",
+        "revenue per unknown cell, in cells of travel",
+        "w_r",
+        low=0,
+        note="revenue per unknown cell expected to be seen, in cells of travel",
+    )
+    goals_per_round = Param(3, "", "goal points drawn per generation", low=1)
+    goal_spacing = Param(
+        0.0,
+        "cells",
+        "least distance between goals; 0 = sensor range",
+        low=0,
+        note="least Euclidean distance between goal points; 0 = `R`",
+    )
+    generation_radius = Param(
+        1.0,
+        "cells",
+        "draw goals at most this far (path) beyond the nearest candidate",
+        low=0,
+        note=("draw goals at most this far (path) beyond the nearest unclaimed frontier cell"),
+    )
+    min_tour = Param(
+        1,
+        "",
+        "generate new goals when the tour is shorter than this",
+        low=1,
+        note="generate goals when the tour holds fewer goals",
+    )
+    auction_ticks = Param(
+        2,
+        "ticks",
+        "auction duration (at least 2 x latency x hops)",
+        low=1,
+        note="auction duration, raised to `2 x latency x hops`",
+    )
+    reauction_every = Param(
+        10,
+        "ticks",
+        "re-auction the least valued goal (0 = never)",
+        low=0,
+        note="re-auction the least valued goal of the tour (0 = never)",
+    )
+    line_of_sight = Param(
+        False,
+        "",
+        "count only unknown cells in line of sight",
+        note="count only unknown cells in line of sight (in the belief) in `I`",
+    )
 
     def __init__(self, robot_id: int, n_robots: int, **params: object) -> None:
         super().__init__(robot_id, n_robots, **params)
-        for name in ("goals_per_round", "min_tour", "auction_ticks"):
-            if int(self.p[name]) < 1:
-                raise ScenarioError(f"--set {name}={self.p[name]}: must be >= 1")
-        for name in ("goal_spacing", "generation_radius", "reauction_every"):
-            if self.p[name] < 0:
-                raise ScenarioError(f"--set {name}={self.p[name]}: must be >= 0")
         self.tour: list[Cell] = []
         self.auctions: dict[Cell, OpenAuction] = {}
         self.foreign_goals: dict[Cell, int] = {}
@@ -465,9 +452,9 @@ class ZlotMarket(Strategy):
             view.belief,
             np.array(goals, dtype=np.int64).reshape(-1, 2),
             view.sensor_range,
-            line_of_sight=bool(self.p["line_of_sight"]),
+            line_of_sight=self.line_of_sight,
         )
-        return revenue(gain, float(self.p["revenue_weight"]))
+        return revenue(gain, self.revenue_weight)
 
     def _tour_points(self, view: RobotView) -> list[Cell]:
         return [view.position, *self.tour]
@@ -555,7 +542,7 @@ class ZlotMarket(Strategy):
         if rows.size == 0:
             return []
         self.foreign_goals = {g: r for g, r in self.foreign_goals.items() if frontier[g]}
-        spacing = float(self.p["goal_spacing"]) or view.sensor_range
+        spacing = self.goal_spacing or view.sensor_range
         held = self.tour + [g for g, r in self.foreign_goals.items() if r in view.subnetwork]
         unclaimed = np.ones(rows.size, dtype=bool)
         for row, col in held:
@@ -563,14 +550,14 @@ class ZlotMarket(Strategy):
         if unclaimed.any():
             rows, cols = rows[unclaimed], cols[unclaimed]
         cost = dist[rows, cols]
-        near = cost <= cost.min() + float(self.p["generation_radius"])
+        near = cost <= cost.min() + self.generation_radius
         rows, cols = rows[near], cols[near]
-        chosen = spread_goals(rows, cols, int(self.p["goals_per_round"]), spacing, view.rng)
+        chosen = spread_goals(rows, cols, self.goals_per_round, spacing, view.rng)
         return [(int(rows[i]), int(cols[i])) for i in chosen]
 
     def _auction_duration(self, view: RobotView) -> int:
         hops = hops_to_farthest(self.robot_id, view.links)
-        return max(int(self.p["auction_ticks"]), 2 * view.comm_latency * max(hops, 1))
+        return max(self.auction_ticks, 2 * view.comm_latency * max(hops, 1))
 
     def _announce(
         self, view: RobotView, goals: Sequence[Cell], reserves: Sequence[float]
@@ -581,7 +568,7 @@ class ZlotMarket(Strategy):
             reserve = float(float32_on_wire(reserve))
             self.auctions[goal] = OpenAuction(reserve, closes_at)
             payload = AuctionPayload(self.robot_id, goal, reserve)
-            messages.append(Message(AUCTION, self.robot_id, BROADCAST, AUCTION_SIZE, payload))
+            messages.append(item_message(AUCTION, self.robot_id, BROADCAST, payload))
         return messages
 
     # ------------------------------------------------------------------ tick
@@ -592,23 +579,21 @@ class ZlotMarket(Strategy):
         for message in view.inbox:
             payload = message.payload
             if message.type == AUCTION and isinstance(payload, AuctionPayload):
-                if payload.auctioneer != self.robot_id:
-                    self.foreign_goals[payload.goal] = payload.auctioneer
+                if payload.robot != self.robot_id:  # the auctioneer
+                    self.foreign_goals[payload.cell] = payload.robot
                     announcements.append(payload)
             elif message.type == BID and isinstance(payload, BidPayload):
-                auction = self.auctions.get(payload.goal)
+                auction = self.auctions.get(payload.cell)
                 if auction is not None and (
                     payload.value > auction.best_value
-                    or (
-                        payload.value == auction.best_value and payload.bidder < auction.best_bidder
-                    )
+                    or (payload.value == auction.best_value and payload.robot < auction.best_bidder)
                 ):
-                    auction.best_value, auction.best_bidder = payload.value, payload.bidder
+                    auction.best_value, auction.best_bidder = payload.value, payload.robot
             elif message.type == AWARD and isinstance(payload, AwardPayload):
-                if payload.winner == self.robot_id:
-                    won.append(payload.goal)
+                if payload.robot == self.robot_id:  # the winner
+                    won.append(payload.cell)
                 else:
-                    self.foreign_goals[payload.goal] = payload.winner
+                    self.foreign_goals[payload.cell] = payload.robot
 
         # Step 6 bookkeeping: drop goals reached, explored or that blocked the robot.
         if view.blocked and self.tour and view.goal is None:
@@ -623,17 +608,16 @@ class ZlotMarket(Strategy):
         wanted = [
             a
             for a in announcements
-            if a.goal not in self.tour and frontier_at(view.belief, a.goal[0], a.goal[1])
+            if a.cell not in self.tour and frontier_at(view.belief, a.cell[0], a.cell[1])
         ]
         if wanted:
-            bids = self.bids_for(view, [a.goal for a in wanted], [a.reserve for a in wanted])
+            bids = self.bids_for(view, [a.cell for a in wanted], [a.value for a in wanted])
             for announcement, value in zip(wanted, bids, strict=True):
                 value = float(float32_on_wire(value))
-                if np.isfinite(value) and value > announcement.reserve:
-                    payload = BidPayload(self.robot_id, announcement.goal, value)
-                    decision.messages.append(
-                        Message(BID, self.robot_id, announcement.auctioneer, BID_SIZE, payload)
-                    )
+                if np.isfinite(value) and value > announcement.value:  # above the reserve
+                    bid = BidPayload(self.robot_id, announcement.cell, value)
+                    auctioneer = announcement.robot
+                    decision.messages.append(item_message(BID, self.robot_id, auctioneer, bid))
 
         # Step 4, auctioneer side: close due auctions.
         for goal in [g for g, a in self.auctions.items() if view.tick >= a.closes_at]:
@@ -643,14 +627,12 @@ class ZlotMarket(Strategy):
             if winning_bid({auction.best_bidder: auction.best_value}, auction.reserve) is None:
                 continue
             self.tour.remove(goal)
-            payload_award = AwardPayload(auction.best_bidder, goal)
-            decision.messages.append(
-                Message(AWARD, self.robot_id, BROADCAST, AWARD_SIZE, payload_award)
-            )
+            award = AwardPayload(auction.best_bidder, goal)
+            decision.messages.append(item_message(AWARD, self.robot_id, BROADCAST, award))
 
         alone = len(view.subnetwork) < 2
         # Step 1: generate goals when the tour runs short; auction them.
-        if len(self.tour) < int(self.p["min_tour"]) and view.tick >= self.next_generation:
+        if len(self.tour) < self.min_tour and view.tick >= self.next_generation:
             added = self.insert(view, self.generate_goals(view))
             if not added:
                 self.next_generation = view.tick + GENERATION_RETRY_TICKS
@@ -660,7 +642,7 @@ class ZlotMarket(Strategy):
                 decision.messages += self._announce(view, added, [value_of[g] for g in added])
 
         # Step 5: re-auction the least valued goal.
-        every = int(self.p["reauction_every"])
+        every = self.reauction_every
         if every > 0 and not alone and view.tick - self.last_reauction >= every:
             self.last_reauction = view.tick
             values = self.tour_values(view)
@@ -680,11 +662,9 @@ class ZlotMarket(Strategy):
             goal = self.tour[0]
             if view.goal == goal:
                 return
-            only_goal = np.zeros(view.belief.shape, dtype=bool)
-            only_goal[goal] = True
-            dist = distance_field(self.distances(view).free, view.position, targets=only_goal)
-            if np.isfinite(dist[goal]):
-                decision.goal, decision.path = goal, extract_path(dist, goal)
+            path = path_to(self.distances(view).free, view.position, goal)
+            if path is not None:
+                decision.goal, decision.path = goal, path
                 return
             self.tour.pop(0)
         if view.goal is not None:
