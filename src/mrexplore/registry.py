@@ -5,22 +5,21 @@ engines and reproductions are each held in a :class:`Registry`: built-ins regist
 when their module is imported (``@REGISTRY.register`` or ``REGISTRY.register(obj)``),
 third-party packages through an entry-point group, loaded the first time an id is
 missing or the registry is listed (as Gymnasium's ``register``/``make`` and
-networkx's backends):
+networkx's backends). Registries, with their entry-point groups and what an entry
+point names:
 
-================================  ========================  ==========================
-registry                          entry-point group         an entry point names
-================================  ========================  ==========================
-strategies (``STRATEGIES``)       ``mrexplore.strategies``  a ``Strategy`` subclass
-communication models              ``mrexplore.comm``        a ``CommModel`` subclass
-map sharing (``SHARING``)         ``mrexplore.sharing``     a ``MapSharing`` subclass
-map generators (``GENERATORS``)   ``mrexplore.generators``  a ``GeneratorInfo``
-sweep engines (``ENGINES``)       ``mrexplore.engines``     an ``Engine`` subclass
-reproductions                     ``mrexplore.reproductions``  a ``Reproduction``
-================================  ========================  ==========================
+* ``mrexplore.strategies.registry.STRATEGIES``: ``mrexplore.strategies``, a
+  ``Strategy`` subclass;
+* ``mrexplore.comm.COMM_MODELS``: ``mrexplore.comm``, a ``CommModel`` subclass;
+* ``mrexplore.comm.SHARING``: ``mrexplore.sharing``, a ``MapSharing`` subclass;
+* ``mrexplore.grid.GENERATORS``: ``mrexplore.generators``, a ``GeneratorInfo``;
+* ``mrexplore.experiments.ENGINES``: ``mrexplore.engines``, an ``Engine`` subclass;
+* ``mrexplore.experiments.reproduce.REPRODUCTIONS``: ``mrexplore.reproductions``, a
+  ``Reproduction``.
 
 An entry's id is its ``id`` attribute (``name`` for generators and engines); its
-one-line summary is its ``summary`` attribute, else the first line of its docstring;
-its parameters are its ``params`` attribute, a mapping of names to
+one-line summary is its ``summary`` attribute, else the first paragraph of its
+docstring; its parameters are its ``params`` attribute, a mapping of names to
 :class:`~mrexplore.params.Param`.
 
 >>> from mrexplore.params import Param
@@ -68,12 +67,12 @@ def default_id(obj: object) -> str:
 
 
 def default_summary(obj: object) -> str:
-    """An object's ``summary`` attribute, else the first line of its docstring."""
+    """An object's ``summary`` attribute, else the first paragraph of its docstring."""
     summary = getattr(obj, "summary", "")
     if isinstance(summary, str) and summary:
         return summary
-    doc = getattr(obj, "__doc__", None) or ""
-    return doc.strip().splitlines()[0] if doc.strip() else ""
+    doc = (getattr(obj, "__doc__", None) or "").strip()
+    return " ".join(line.strip() for line in doc.split("\n\n")[0].splitlines())
 
 
 def default_params(obj: object) -> Mapping[str, Param]:
