@@ -157,6 +157,12 @@ class Registry(Generic[T]):
         self._lazy[name] = reference
         self._lazy_summaries[name] = summary
 
+    def unregister(self, name: str) -> None:
+        """Remove ``name`` (for tests that register a throw-away object)."""
+        if self._objects.pop(name, None) is None and self._lazy.pop(name, None) is None:
+            raise UnknownIdError(self.kind, name, self.ids())
+        self._plugin_of.pop(name, None)
+
     # ------------------------------------------------------------------ plugins
     def load_plugins(self) -> None:
         """Register every entry point of :attr:`group` (once; later calls do nothing).

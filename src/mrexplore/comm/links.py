@@ -45,9 +45,10 @@ class LinkModel(ABC):
     def describe(self) -> str:
         """A short description for reports."""
 
-    def delivery_probability(self, a: Cell, b: Cell, n_bytes: int) -> float:
-        """Probability that one transmission of ``n_bytes`` from cell ``a`` is received
-        at cell ``b`` over an existing link (1 unless :attr:`lossy`)."""
+    def delivery_probability(self, transmitter: int, receiver: int, n_bytes: int) -> float:
+        """Probability that one transmission of ``n_bytes`` by robot ``transmitter`` is
+        received by robot ``receiver`` over one of the links of the last :meth:`links`
+        call (1 unless :attr:`lossy`)."""
         return 1.0
 
     def signal_strength(self, a: Cell, b: Cell) -> float:

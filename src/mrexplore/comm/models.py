@@ -287,7 +287,6 @@ class Network(CommModel):
         self.channel = channel if channel is not None else Perfect()
         self.bandwidth = bandwidth
         self.rng = rng
-        self._positions: dict[int, Position] = {}
         self._alive: frozenset[int] = frozenset(range(n_robots))
         self._links: frozenset[Link] = frozenset()
         self._neighbours: dict[int, set[int]] = {}
@@ -317,7 +316,6 @@ class Network(CommModel):
     def update(self, tick: int, positions: Mapping[int, Position], alive: frozenset[int]) -> None:
         self._alive = alive
         live_positions = {r: positions[r] for r in alive}
-        self._positions = live_positions
         self._links = self.link_model.links(live_positions)
         self._neighbours = {r: set() for r in alive}
         for a, b in self._links:
@@ -419,14 +417,11 @@ class Network(CommModel):
     ) -> list[int | None]:
         """Lose each reception with one minus its link's delivery probability."""
         assert self.rng is not None  # checked in __init__
-        source = self._positions[transmitter]
         draws = self.rng.random(len(receivers))
+        chance = self.link_model.delivery_probability
         return [
-            None
-            if arrival is None
-            or draws[i] >= self.link_model.delivery_probability(source, self._positions[r], n_bytes)
-            else arrival
-            for i, (r, arrival) in enumerate(zip(receivers, arrivals, strict=True))
+            None if arrival is None or draw >= chance(transmitter, receiver, n_bytes) else arrival
+            for receiver, arrival, draw in zip(receivers, arrivals, draws, strict=True)
         ]
 
     def _next_hop(self, source: int, dest: int) -> int | None:
