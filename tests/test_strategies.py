@@ -99,8 +99,16 @@ def test_entry_point_plugins_are_loaded_and_checked(monkeypatch: pytest.MonkeyPa
         value="fake_plugin:FarthestFrontier",
         group=registry.ENTRY_POINT_GROUP,
     )
-    monkeypatch.setattr(registry, "entry_points", lambda group: [entry])
-    monkeypatch.setattr(registry, "_plugins_loaded", False)
-    monkeypatch.setattr(registry, "_REGISTRY", dict(registry._REGISTRY))
-    assert get_strategy("test-farthest-frontier") is FarthestFrontier
-    check_strategy("test-farthest-frontier")
+    import mrexplore.registry
+
+    monkeypatch.setattr(
+        mrexplore.registry,
+        "entry_points",
+        lambda group: [entry] if group == registry.ENTRY_POINT_GROUP else [],
+    )
+    registry.STRATEGIES.forget_plugins()
+    try:
+        assert get_strategy("test-farthest-frontier") is FarthestFrontier
+        check_strategy("test-farthest-frontier")
+    finally:
+        registry.STRATEGIES.forget_plugins()

@@ -141,6 +141,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     comm = run.add_argument_group("communication limits (default: unlimited and lossless)")
     comm.add_argument(
+        "--comm-model",
+        default="network",
+        metavar="ID",
+        help="communication model, see `mrexplore comm-models` (default: network, the "
+        "store-and-forward multi-hop network the options below configure)",
+    )
+    comm.add_argument(
         "--comm-range",
         help="communication range: cells, or metres with 'm' (default: inf = unlimited)",
     )
@@ -168,7 +175,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="KEY=VALUE",
         help="any of range, los, bandwidth, latency, loss as key=value, same units and "
-        "defaults as the options above (repeatable)",
+        "defaults as the options above, or a parameter of the --comm-model (listed by "
+        "`mrexplore comm-models`) (repeatable)",
     )
     comm.add_argument(
         "--fail",
@@ -251,6 +259,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("strategies", help="list the registered strategies")
     sub.add_parser("maps", help="list map generators and the real maps that ship with the package")
+    sub.add_parser(
+        "comm-models", help="list the communication models (--comm-model) and their parameters"
+    )
+    sub.add_parser("sharing", help="list the map-sharing mechanisms (--sharing)")
+    sub.add_parser("engines", help="list the sweep engines (--engine)")
+    sub.add_parser("reproductions", help="list the papers `mrexplore reproduce` knows")
 
     sweep = sub.add_parser("sweep", help="run a sweep file into a results folder")
     sweep.add_argument("file", help="sweep file (TOML: [sweep] seeds, [fixed], [grid])")
@@ -357,10 +371,13 @@ def _comm_settings(args: argparse.Namespace) -> dict[str, Any]:
     import math
 
     settings: dict[str, Any] = {}
+    model_params: dict[str, str] = {}
     for key, value in _pairs("--comm", args.comm).items():
         option = f"--comm {key}={value}"
         try:
-            if key == "range":
+            if key not in _COMM_KEYS:  # the model's own parameter, checked by its registry
+                model_params[key] = value
+            elif key == "range":
                 settings["comm_range"] = value
             elif key == "los":
                 from mrexplore.sim.scenario import parse_switch
@@ -368,12 +385,8 @@ def _comm_settings(args: argparse.Namespace) -> dict[str, Any]:
                 settings["comm_los"] = parse_switch(value, f"--comm {key}")
             elif key in {"bandwidth", "loss"}:
                 settings[key] = float(value)
-            elif key == "latency":
-                settings["latency"] = int(value)
             else:
-                raise ScenarioError(
-                    f"{option}: unknown key; use range, los, bandwidth, latency or loss"
-                )
+                settings["latency"] = int(value)
         except ScenarioError:
             raise
         except ValueError:
@@ -388,7 +401,26 @@ def _comm_settings(args: argparse.Namespace) -> dict[str, Any]:
     comm_range = settings.get("comm_range")
     if isinstance(comm_range, str) and comm_range.strip().lower() in {"inf", "infinity"}:
         settings["comm_range"] = math.inf
+    settings["comm_model"] = args.comm_model
+    if model_params:
+        from mrexplore.comm import COMM_MODELS
+
+        declared = COMM_MODELS.params(args.comm_model)
+        for key, value in model_params.items():
+            if key not in declared:
+                own = ", ".join(declared) or "none"
+                raise ScenarioError(
+                    f"--comm {key}={value}: unknown key; use {', '.join(_COMM_KEYS)} or a "
+                    f"parameter of --comm-model {args.comm_model} (it has: {own})"
+                )
+        resolved = COMM_MODELS.resolve_params(args.comm_model, model_params, option="--comm")
+        settings["comm_params"] = {key: resolved[key] for key in model_params}  # typed
     return settings
+
+
+#: ``--comm`` keys that set the scenario's own communication settings; any other key
+#: is a parameter of the communication model.
+_COMM_KEYS = ("range", "los", "bandwidth", "latency", "loss")
 
 
 def _scenario_from_args(args: argparse.Namespace) -> Any:
@@ -531,13 +563,56 @@ def cmd_replay(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_strategies(args: argparse.Namespace) -> int:
-    from mrexplore.strategies import available_strategies
+def _print_registry(registry: Any, *, with_params: bool = False) -> None:
+    """One line per id: the id and its summary (plugins say which package gave them),
+    and with ``with_params`` one indented line per parameter."""
+    entries = registry.entries()
+    width = max((len(entry.id) for entry in entries), default=0)
+    for entry in entries:
+        origin = f" [plugin: {entry.plugin}]" if entry.plugin else ""
+        print(f"{entry.id:<{width}}  {entry.summary}{origin}")
+        if with_params:
+            for name, spec in entry.params.items():
+                unit = f" {spec.unit}" if spec.unit else ""
+                print(
+                    f"{'':<{width}}    {name}={spec.default!r}{unit}: {spec.help} "
+                    f"({spec.describe()})"
+                )
 
-    registry = available_strategies()
-    width = max(len(name) for name in registry)
-    for name, cls in registry.items():
-        print(f"{name:<{width}}  {cls.summary}")
+
+def cmd_strategies(args: argparse.Namespace) -> int:
+    from mrexplore.strategies.registry import STRATEGIES
+
+    _print_registry(STRATEGIES)
+    return 0
+
+
+def cmd_comm_models(args: argparse.Namespace) -> int:
+    from mrexplore.comm import COMM_MODELS
+
+    _print_registry(COMM_MODELS, with_params=True)
+    print("(parameters: --comm KEY=VALUE; docs/comm-models.md)")
+    return 0
+
+
+def cmd_sharing(args: argparse.Namespace) -> int:
+    from mrexplore.comm import SHARING
+
+    _print_registry(SHARING)
+    return 0
+
+
+def cmd_engines(args: argparse.Namespace) -> int:
+    from mrexplore.experiments.engines import ENGINES
+
+    _print_registry(ENGINES)
+    return 0
+
+
+def cmd_reproductions(args: argparse.Namespace) -> int:
+    from mrexplore.experiments.reproduce import REPRODUCTIONS
+
+    _print_registry(REPRODUCTIONS)
     return 0
 
 
@@ -705,6 +780,10 @@ COMMANDS = {
     "run": cmd_run,
     "strategies": cmd_strategies,
     "maps": cmd_maps,
+    "comm-models": cmd_comm_models,
+    "sharing": cmd_sharing,
+    "engines": cmd_engines,
+    "reproductions": cmd_reproductions,
     "sweep": cmd_sweep,
     "query": cmd_query,
     "report": cmd_report,

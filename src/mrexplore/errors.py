@@ -43,3 +43,8 @@ class UnknownIdError(MrexploreInputError):
 
 class StrategyError(MrexploreError):
     """A strategy broke its contract (returned an illegal target, ...)."""
+
+
+class CommModelError(MrexploreError):
+    """A communication model broke its protocol (delivered beyond its sender's
+    sub-network, twice, ...)."""

@@ -5,7 +5,15 @@ from mrexplore.comm.channels import Channel, Delayed, Lossy, Perfect
 from mrexplore.comm.ledger import ByteLedger
 from mrexplore.comm.links import AllLinks, LinkModel, RangeLinks, components
 from mrexplore.comm.messages import Message
-from mrexplore.comm.models import CommModel, Network, Unlimited, make_network
+from mrexplore.comm.models import (
+    COMM_MODELS,
+    CommModel,
+    CommSetup,
+    CommStats,
+    Network,
+    make_comm_model,
+    make_network,
+)
 from mrexplore.comm.sharing import (
     SHARING,
     BroadcastSharing,
@@ -18,6 +26,7 @@ from mrexplore.comm.sharing import (
 
 __all__ = [
     "BROADCAST",
+    "COMM_MODELS",
     "HEADER_BYTES",
     "SHARING",
     "AllLinks",
@@ -25,6 +34,8 @@ __all__ = [
     "ByteLedger",
     "Channel",
     "CommModel",
+    "CommSetup",
+    "CommStats",
     "Delayed",
     "FullSharing",
     "LinkModel",
@@ -36,8 +47,8 @@ __all__ = [
     "Observation",
     "Perfect",
     "RangeLinks",
-    "Unlimited",
     "components",
+    "make_comm_model",
     "make_network",
     "make_sharing",
 ]
@@ -45,5 +56,5 @@ __all__ = [
 from mrexplore.comm.polygon import PolygonSharing  # registers after sharing
 from mrexplore.comm.sheng_sync import ShengSync  # registers after sharing
 
-SHARING["sheng-sync"] = ShengSync
-SHARING["polygon"] = PolygonSharing
+SHARING.register(ShengSync)
+SHARING.register(PolygonSharing)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -25,7 +26,16 @@ _SMALL_TEAM = 32
 
 
 class LinkModel(ABC):
-    """Decides the direct links between live robots."""
+    """Decides the direct links between live robots.
+
+    A link model whose links lose receptions depending on the link itself (distance,
+    walls, a packet's length) sets :attr:`lossy` and implements
+    :meth:`delivery_probability`; :class:`~mrexplore.comm.models.Network` then loses
+    each reception over a link with one minus that probability.
+    """
+
+    lossy: ClassVar[bool] = False
+    """Whether :meth:`delivery_probability` can be below 1."""
 
     @abstractmethod
     def links(self, positions: Mapping[int, Cell]) -> frozenset[Link]:
@@ -34,6 +44,12 @@ class LinkModel(ABC):
     @abstractmethod
     def describe(self) -> str:
         """A short description for reports."""
+
+    def delivery_probability(self, transmitter: int, receiver: int, n_bytes: int) -> float:
+        """Probability that one transmission of ``n_bytes`` by robot ``transmitter`` is
+        received by robot ``receiver`` over one of the links of the last :meth:`links`
+        call (1 unless :attr:`lossy`)."""
+        return 1.0
 
     def signal_strength(self, a: Cell, b: Cell) -> float:
         """Received signal strength between two cells, relative to 1 at one cell.

@@ -23,6 +23,12 @@ Timing: messages emitted during tick ``t`` are transmitted in the network's
 :meth:`Network.flush` at the end of tick ``t`` (as far as the bandwidth allows)
 and arrive at tick ``t + latency`` (``latency >= 1``, default 1); each relay adds
 its own hop.
+
+Communication models are looked up by id in :data:`COMM_MODELS` (``--comm-model
+ID``; the default ``network`` is :class:`Network`); third-party models register
+through the entry-point group ``mrexplore.comm`` and can be checked with
+:func:`mrexplore.checks.check_comm_model`. ``docs/comm-models.md`` explains the
+protocol.
 """
 
 from __future__ import annotations
@@ -34,6 +40,7 @@ from abc import ABC, abstractmethod
 from collections import defaultdict, deque
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
@@ -42,21 +49,107 @@ from mrexplore.comm.channels import Channel, Delayed, Lossy, Perfect
 from mrexplore.comm.ledger import ByteLedger
 from mrexplore.comm.links import AllLinks, Link, LinkModel, RangeLinks, components
 from mrexplore.comm.messages import Message
+from mrexplore.errors import ScenarioError
+from mrexplore.params import Param
+from mrexplore.registry import Registry
 
 Position = tuple[int, int]
 
+COMM_ENTRY_POINT_GROUP = "mrexplore.comm"
+DEFAULT_COMM_MODEL = "network"
+
+
+@dataclass(frozen=True)
+class CommSetup:
+    """What the simulator hands a communication model to build it from.
+
+    Attributes:
+        n_robots: the team size (robot ids ``0 .. n_robots - 1``).
+        occupied: ground-truth walls (``True`` = occupied), for models in which walls
+            block or weaken radio. Strategies never see it; neither may a model pass
+            it on to them.
+        rng: the seed's own ``comm`` stream; every random choice of the model comes
+            from it (same seed, same deliveries).
+        comm_range: ``--comm-range`` in cells (``inf`` = unlimited).
+        comm_los: ``--comm-los``.
+        bandwidth: ``--bandwidth``, bytes per tick per robot (``inf`` = unlimited).
+        latency: ``--latency``, ticks per hop (>= 1).
+        loss: ``--loss``, probability that one reception is lost.
+        metres_per_cell: the map's resolution, ``None`` if it has none.
+    """
+
+    n_robots: int
+    occupied: npt.NDArray[np.bool_]
+    rng: np.random.Generator
+    comm_range: float = math.inf
+    comm_los: bool = False
+    bandwidth: float = math.inf
+    latency: int = 1
+    loss: float = 0.0
+    metres_per_cell: float | None = None
+
+
+@dataclass(frozen=True)
+class CommStats:
+    """What a communication model reports for the run's metrics (besides its
+    :class:`~mrexplore.comm.ledger.ByteLedger`).
+
+    Attributes:
+        subnetwork_counts: number of sub-networks after each :meth:`CommModel.update`
+            (one per tick, tick 0 first).
+        partition_events: times an old sub-network split.
+        merge_events: times old sub-networks joined.
+        queue_delay_mean: mean ticks a transmission waited in a queue (0 if none).
+    """
+
+    subnetwork_counts: tuple[int, ...] = ()
+    partition_events: int = 0
+    merge_events: int = 0
+    queue_delay_mean: float = 0.0
+
 
 class CommModel(ABC):
-    """Base class of communication models.
+    """Base class of communication models: each tick, who can talk and what gets through.
 
     The simulator calls, each tick: :meth:`update` with the robots' positions,
     :meth:`deliver` to get every robot's inbox, :meth:`send` for every message a
-    robot emits during the tick, and :meth:`flush` at the end of the tick.
+    robot emits during the tick, and :meth:`flush` at the end of the tick; at the
+    end of the run it reads :attr:`ledger` (every byte put on the air, counted
+    with :class:`~mrexplore.comm.ledger.ByteLedger`) and :meth:`stats`.
+
+    A registered model sets ``id``, ``summary`` and ``params`` (its own settings,
+    ``--comm key=value``) and builds itself in :meth:`from_setup`. The contract,
+    checked by :func:`mrexplore.checks.check_comm_model`:
+
+    * a message reaches only live robots of its sender's sub-network as it was
+      when it was sent, never its sender, each receiver at most once, and never at
+      the tick it was sent;
+    * :meth:`subnetworks` are the connected components of :meth:`links` over the
+      live robots (a robot alone is its own sub-network);
+    * what is not delivered is counted as lost (``ledger.record_lost``);
+    * every random choice comes from ``setup.rng``.
+
+    :meth:`record_topology` keeps the sub-network statistics that :meth:`stats`
+    reports; a model calls it from :meth:`update`.
     """
+
+    id: ClassVar[str] = ""
+    summary: ClassVar[str] = ""
+    params: ClassVar[Mapping[str, Param]] = {}
 
     def __init__(self, n_robots: int) -> None:
         self.n_robots = n_robots
         self.ledger = ByteLedger(n_robots)
+        self.subnetwork_counts: list[int] = []
+        self.partition_events = 0
+        self.merge_events = 0
+        self.queue_delays: list[int] = []
+
+    @classmethod
+    @abstractmethod
+    def from_setup(cls, setup: CommSetup, **params: Any) -> CommModel:
+        """Build the model for one run; ``params`` are :attr:`params`' values,
+        already converted and range-checked (defaults filled in)."""
 
     @abstractmethod
     def update(self, tick: int, positions: Mapping[int, Position], alive: frozenset[int]) -> None:
@@ -89,12 +182,60 @@ class CommModel(ABC):
     def describe(self) -> str:
         """A short description for reports."""
 
+    def stats(self) -> CommStats:
+        """The model's network statistics for the run's metrics."""
+        return CommStats(
+            subnetwork_counts=tuple(self.subnetwork_counts),
+            partition_events=self.partition_events,
+            merge_events=self.merge_events,
+            queue_delay_mean=float(np.mean(self.queue_delays or [0])),
+        )
+
+    def record_topology(
+        self,
+        tick: int,
+        previous: list[frozenset[int]],
+        groups: list[frozenset[int]],
+        alive: frozenset[int],
+    ) -> None:
+        """Count the sub-networks after an update, and (after tick 0) the partitions and
+        merges between the ``previous`` groups and the new ``groups`` of live robots."""
+        if tick > 0:
+            live_previous = [g & alive for g in previous]
+            for group in groups:
+                if sum(1 for old in live_previous if old & group) > 1:
+                    self.merge_events += 1
+            for old in live_previous:
+                if sum(1 for group in groups if group & old) > 1:
+                    self.partition_events += 1
+        self.subnetwork_counts.append(len(groups))
+
     def subnetwork_of(self, robot: int) -> frozenset[int]:
         """The sub-network holding ``robot`` (just itself if it is isolated)."""
         for group in self.subnetworks():
             if robot in group:
                 return group
         return frozenset({robot})
+
+
+COMM_MODELS: Registry[type[CommModel]] = Registry("communication model", COMM_ENTRY_POINT_GROUP)
+"""Communication models by id (``--comm-model``); plugins: entry-point group
+``mrexplore.comm``, each entry point naming a :class:`CommModel` subclass."""
+
+
+def make_comm_model(
+    name: str, setup: CommSetup, params: Mapping[str, Any] | None = None
+) -> CommModel:
+    """Build communication model ``name`` for one run; ``params`` (``--comm key=value``
+    for the model's own settings) are converted and checked against its declaration.
+
+    Raises:
+        UnknownIdError: no model has this id.
+        ScenarioError: an unknown parameter or a value out of range.
+    """
+    cls = COMM_MODELS.get(name)
+    resolved = COMM_MODELS.resolve_params(name, params or {}, option="--comm")
+    return cls.from_setup(setup, **resolved)
 
 
 @dataclass(eq=False)
@@ -113,8 +254,20 @@ class _Transmission:
     queued_tick: int
 
 
+@COMM_MODELS.register
 class Network(CommModel):
-    """Store-and-forward network over a link model, with bandwidth and a channel."""
+    """Store-and-forward network over a link model, with bandwidth and a channel.
+
+    If the link model declares per-link delivery probabilities
+    (:attr:`LinkModel.lossy`), each reception over a link is also lost with one minus
+    its :meth:`~mrexplore.comm.links.LinkModel.delivery_probability`, drawn from ``rng``.
+    """
+
+    id = DEFAULT_COMM_MODEL
+    summary = (
+        "store-and-forward multi-hop network: --comm-range (walls block with --comm-los), "
+        "--bandwidth, --latency, --loss"
+    )
 
     def __init__(
         self,
@@ -123,13 +276,17 @@ class Network(CommModel):
         *,
         channel: Channel | None = None,
         bandwidth: float = math.inf,
+        rng: np.random.Generator | None = None,
     ) -> None:
         super().__init__(n_robots)
         if not bandwidth > 0:
-            raise ValueError("bandwidth must be positive")
+            raise ScenarioError(f"--bandwidth {bandwidth}: must be positive (bytes per tick)")
+        if links.lossy and rng is None:
+            raise ScenarioError(f"{links.describe()}: lossy links need a random generator")
         self.link_model = links
         self.channel = channel if channel is not None else Perfect()
         self.bandwidth = bandwidth
+        self.rng = rng
         self._alive: frozenset[int] = frozenset(range(n_robots))
         self._links: frozenset[Link] = frozenset()
         self._neighbours: dict[int, set[int]] = {}
@@ -138,13 +295,22 @@ class Network(CommModel):
         self._queues: dict[int, list[tuple[int, int, _Transmission]]] = defaultdict(list)
         self._order = itertools.count()
         self._arrivals: dict[int, list[tuple[_Packet, int, int]]] = defaultdict(list)
-        self.subnetwork_counts: list[int] = []
-        self.partition_events = 0
-        self.merge_events = 0
-        self.queue_delays: list[int] = []
         self.hop_log: list[tuple[int, int, int, int | None, str]] = []
         """(tick sent, transmitter, receiver, arrival tick or None if lost, type)"""
         self.keep_hop_log = False
+
+    @classmethod
+    def from_setup(cls, setup: CommSetup, **params: Any) -> Network:
+        return make_network(
+            setup.n_robots,
+            comm_range=setup.comm_range,
+            comm_los=setup.comm_los,
+            bandwidth=setup.bandwidth,
+            latency=setup.latency,
+            loss=setup.loss,
+            occupied=setup.occupied,
+            rng=setup.rng,
+        )
 
     # ----------------------------------------------------------------- topology
     def update(self, tick: int, positions: Mapping[int, Position], alive: frozenset[int]) -> None:
@@ -158,22 +324,11 @@ class Network(CommModel):
         previous = self._groups
         self._groups = components(alive, self._links)
         self._group_of = {r: g for g in self._groups for r in g}
-        if tick > 0:
-            self._count_events(previous)
-        self.subnetwork_counts.append(len(self._groups))
+        self.record_topology(tick, previous, self._groups, alive)
         for robot in list(self._queues):
             if robot not in alive:  # a dead robot's queue dies with it
                 for _, _, transmission in self._queues.pop(robot):
                     self.ledger.record_lost(transmission.packet.message)
-
-    def _count_events(self, previous: list[frozenset[int]]) -> None:
-        live_previous = [g & self._alive for g in previous]
-        for group in self._groups:
-            if sum(1 for old in live_previous if old & group) > 1:
-                self.merge_events += 1
-        for old in live_previous:
-            if sum(1 for group in self._groups if group & old) > 1:
-                self.partition_events += 1
 
     def links(self) -> frozenset[Link]:
         return self._links
@@ -244,9 +399,10 @@ class Network(CommModel):
                 self.ledger.record_lost(message)
                 return
             receivers = [hop]
-        for receiver, arrival in zip(
-            receivers, self.channel.arrivals(receivers, tick), strict=True
-        ):
+        arrivals = self.channel.arrivals(receivers, tick)
+        if self.link_model.lossy and receivers:
+            arrivals = self._link_losses(transmitter, receivers, arrivals, message.size_bytes)
+        for receiver, arrival in zip(receivers, arrivals, strict=True):
             if self.keep_hop_log:
                 self.hop_log.append((tick, transmitter, receiver, arrival, message.type))
             if arrival is None:
@@ -255,6 +411,18 @@ class Network(CommModel):
                 continue
             packet.pending.add(receiver)
             self._arrivals[arrival].append((packet, receiver, transmitter))
+
+    def _link_losses(
+        self, transmitter: int, receivers: list[int], arrivals: list[int | None], n_bytes: int
+    ) -> list[int | None]:
+        """Lose each reception with one minus its link's delivery probability."""
+        assert self.rng is not None  # checked in __init__
+        draws = self.rng.random(len(receivers))
+        chance = self.link_model.delivery_probability
+        return [
+            None if arrival is None or draw >= chance(transmitter, receiver, n_bytes) else arrival
+            for receiver, arrival, draw in zip(receivers, arrivals, draws, strict=True)
+        ]
 
     def _next_hop(self, source: int, dest: int) -> int | None:
         """First robot on a shortest path (in hops) from ``source`` to ``dest``."""
@@ -308,10 +476,6 @@ class Network(CommModel):
         bandwidth = "" if math.isinf(self.bandwidth) else f", {self.bandwidth:g} B/tick"
         return f"{self.link_model.describe()}{bandwidth}, {self.channel.describe()}"
 
-    def signal_strength(self, a: Position, b: Position) -> float:
-        """Relative signal strength between two cells (1/d^2, Vazquez & Malcolm)."""
-        return self.link_model.signal_strength(a, b)
-
 
 def make_network(
     n_robots: int,
@@ -334,11 +498,6 @@ def make_network(
         channel = Delayed(channel, latency)
     if loss > 0:
         if rng is None:
-            raise ValueError("a lossy channel needs a random generator")
+            raise ScenarioError(f"--loss {loss}: a lossy channel needs a random generator")
         channel = Lossy(channel, loss, rng)
     return Network(n_robots, links, channel=channel, bandwidth=bandwidth)
-
-
-def Unlimited(n_robots: int) -> Network:  # capitalised: the public name of a model
-    """Unlimited range and bandwidth, no loss: every message arrives at the next tick."""
-    return Network(n_robots, AllLinks())

@@ -27,8 +27,9 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, cell_updates_size
 from mrexplore.comm.messages import MAP_FULL, MAP_MULTICAST, MAP_UPDATE, Message
-from mrexplore.errors import ScenarioError, UnknownIdError
+from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import UNKNOWN, BeliefGrid
+from mrexplore.registry import Registry
 
 
 @dataclass(frozen=True, slots=True)
@@ -322,20 +323,16 @@ class NoSharing(MapSharing):
         return 0
 
 
-SHARING: dict[str, Callable[..., MapSharing]] = {
-    "broadcast": BroadcastSharing,
-    "full": FullSharing,
-    "none": NoSharing,
-}
-"""Registry of sharing mechanisms; ``mrexplore.comm`` adds the ones in their own modules."""
+SHARING: Registry[Callable[..., MapSharing]] = Registry("sharing mechanism", "mrexplore.sharing")
+"""Registry of sharing mechanisms (plugins: entry-point group ``mrexplore.sharing``);
+``mrexplore.comm`` registers the ones in their own modules."""
+for _mechanism in (BroadcastSharing, FullSharing, NoSharing):
+    SHARING.register(_mechanism)
 
 
 def make_sharing(name: str, **params: Any) -> MapSharing:
     """Build a map-sharing mechanism by registry id."""
-    try:
-        factory = SHARING[name]
-    except KeyError:
-        raise UnknownIdError("sharing mechanism", name, list(SHARING)) from None
+    factory = SHARING.get(name)  # UnknownIdError names the known ids
     converted = {key: _number_or_text(value) for key, value in params.items()}
     accepted = _parameter_names(factory)
     foreign = [key for key in params if accepted is not None and key not in accepted]

@@ -44,11 +44,10 @@ from contextlib import contextmanager, nullcontext
 from typing import Any, TypeVar
 
 from mrexplore.errors import MrexploreInputError
+from mrexplore.registry import Registry
 
 T = TypeVar("T")
 R = TypeVar("R")
-
-ENGINES = ("local", "ray", "dask")
 
 
 class EngineError(MrexploreInputError):
@@ -481,16 +480,22 @@ def _start_reaper() -> Any:
         return None
 
 
+ENGINES: Registry[type[Engine]] = Registry(
+    "engine", "mrexplore.engines", id_of=lambda engine: engine.name
+)
+"""Engines by name (``--engine``): ``local``, ``ray``, ``dask``; plugins: entry-point
+group ``mrexplore.engines``, each entry point naming an :class:`Engine` subclass
+(constructed as ``cls(workers, address)``)."""
+for _engine in (LocalEngine, RayEngine, DaskEngine):
+    ENGINES.register(_engine)
+
+
 def make_engine(name: str, workers: int | None = None, address: str | None = None) -> Engine:
-    """An engine by name: ``local``, ``ray`` or ``dask``."""
+    """An engine by name: ``local``, ``ray``, ``dask`` or a plugin's."""
     if workers is not None and workers < 1:
         raise EngineError(f"--workers {workers}: must be at least 1")
-    if name == "local":
-        if address:
-            raise EngineError("--address: only for --engine ray or dask")
-        return LocalEngine(workers)
-    if name == "ray":
-        return RayEngine(workers, address)
-    if name == "dask":
-        return DaskEngine(workers, address)
-    raise EngineError(f"--engine {name}: choose one of {', '.join(ENGINES)}")
+    if name not in ENGINES:
+        raise EngineError(f"--engine {name}: choose one of {', '.join(ENGINES)}")
+    if name == "local" and address:
+        raise EngineError("--address: only for --engine ray or dask")
+    return ENGINES.get(name)(workers, address)

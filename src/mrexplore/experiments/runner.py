@@ -43,12 +43,14 @@ class RunOutcome:
 def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     """The scenario as flat columns named like ``run``'s long options.
 
-    ``params`` become ``param_<name>`` columns, ``sharing_params`` ``share_<name>``;
+    ``params`` become ``param_<name>`` columns, ``sharing_params`` ``share_<name>``,
+    ``comm_params`` ``comm_<name>`` (as ``--comm name=value``);
     ``size`` is ``"WxH"``, ``start`` and ``fail`` are text.
     """
     data = scenario.to_dict()
     params = data.pop("params")
     share = data.pop("sharing_params")
+    comm = data.pop("comm_params")
     out: dict[str, Any] = {}
     for key, value in data.items():
         if key == "start" and not isinstance(value, str):
@@ -58,6 +60,7 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
         out[key] = value
     out.update({f"param_{k}": _scalar(v) for k, v in params.items()})
     out.update({f"share_{k}": _scalar(v) for k, v in share.items()})
+    out.update({f"comm_{k}": _scalar(v) for k, v in comm.items()})
     return out
 
 
@@ -90,6 +93,9 @@ def execute(spec: RunSpec) -> RunOutcome:
     return RunOutcome(spec.run_id, row, curves)
 
 
+_NOT_METRICS = ("params", "sharing_params", "comm_params", "mrexplore_version")
+
+
 def metric_columns(result: dict[str, Any], scenario: dict[str, Any]) -> dict[str, Any]:
     """Scalar columns of ``result.json`` that are not scenario settings.
 
@@ -105,7 +111,12 @@ def metric_columns(result: dict[str, Any], scenario: dict[str, Any]) -> dict[str
         if key in ("max_ticks", "sharing"):  # resolved values, when the scenario left them
             out[f"{key}_in_force"] = value
             continue
-        if key in scenario or key in ("params", "sharing_params", "mrexplore_version"):
+        if key in scenario or key in (
+            "params",
+            "sharing_params",
+            "comm_params",
+            "mrexplore_version",
+        ):
             continue
         if isinstance(value, dict):
             for sub, sub_value in sorted(value.items()):

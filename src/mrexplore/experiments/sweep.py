@@ -161,7 +161,12 @@ def validate_scenario(scenario: Scenario) -> None:
 #: Scenario fields added after runs were first stored, with their defaults: at the
 #: default they are left out of the id, so the ids of earlier runs (and ``--resume``
 #: of their sweeps) stay valid.
-LATER_FIELDS: dict[str, Any] = {"complete_when": "team", "start_delay": 0}
+LATER_FIELDS: dict[str, Any] = {
+    "complete_when": "team",
+    "start_delay": 0,
+    "comm_model": "network",
+    "comm_params": {},
+}
 
 
 def scenario_id(scenario: Scenario) -> str:

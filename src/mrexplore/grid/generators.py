@@ -23,9 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mrexplore.errors import ScenarioError, UnknownIdError
+from mrexplore.errors import ScenarioError
 from mrexplore.grid.components import largest_free_component
 from mrexplore.grid.occupancy import BoolGrid, GridMap
+from mrexplore.registry import Registry
 
 __all__ = [
     "GENERATORS",
@@ -595,42 +596,49 @@ class GeneratorInfo:
     default_size: tuple[int, int]
 
 
-GENERATORS: dict[str, GeneratorInfo] = {
-    info.name: info
-    for info in (
-        GeneratorInfo("blank", blank, "empty room, walls on the border only", (100, 100)),
-        GeneratorInfo(
-            "unstructured",
-            unstructured,
-            "scattered obstacles of varied shapes, 15-25% occupied (Wu et al.)",
-            (100, 100),
-        ),
-        GeneratorInfo(
-            "cityblock",
-            cityblock,
-            "rectangular blocks separated by a grid of streets (Wu et al.)",
-            (100, 100),
-        ),
-        GeneratorInfo("office", office, "rooms with doors on both sides of corridors", (120, 80)),
-        GeneratorInfo(
-            "corridor", corridor, "long branching corridors lined with side rooms", (100, 100)
-        ),
-        GeneratorInfo(
-            "maze", _maze_default, "perfect maze, corridors 2-3 cells, walls 1 cell", (100, 100)
-        ),
-        GeneratorInfo(
-            "sheng40",
-            sheng40,
-            "40x40 square with two obstacles (Sheng et al. 2006; our obstacle layout)",
-            (42, 42),
-        ),
-    )
-}
+GENERATORS: Registry[GeneratorInfo] = Registry(
+    "generator",
+    "mrexplore.generators",
+    id_of=lambda info: info.name,
+    summary_of=lambda info: info.description,
+)
+"""World generators by id (``--map NAME``); plugins: entry-point group
+``mrexplore.generators``, each entry point naming a :class:`GeneratorInfo`."""
+
+for _info in (
+    GeneratorInfo("blank", blank, "empty room, walls on the border only", (100, 100)),
+    GeneratorInfo(
+        "unstructured",
+        unstructured,
+        "scattered obstacles of varied shapes, 15-25% occupied (Wu et al.)",
+        (100, 100),
+    ),
+    GeneratorInfo(
+        "cityblock",
+        cityblock,
+        "rectangular blocks separated by a grid of streets (Wu et al.)",
+        (100, 100),
+    ),
+    GeneratorInfo("office", office, "rooms with doors on both sides of corridors", (120, 80)),
+    GeneratorInfo(
+        "corridor", corridor, "long branching corridors lined with side rooms", (100, 100)
+    ),
+    GeneratorInfo(
+        "maze", _maze_default, "perfect maze, corridors 2-3 cells, walls 1 cell", (100, 100)
+    ),
+    GeneratorInfo(
+        "sheng40",
+        sheng40,
+        "40x40 square with two obstacles (Sheng et al. 2006; our obstacle layout)",
+        (42, 42),
+    ),
+):
+    GENERATORS.register(_info)
 
 
 def list_generators() -> list[GeneratorInfo]:
     """All registered generators, sorted by name."""
-    return [GENERATORS[name] for name in sorted(GENERATORS)]
+    return list(GENERATORS.available().values())
 
 
 def _check_side(what: str, value: object) -> int:
@@ -667,9 +675,7 @@ def generate_map(
         UnknownIdError: no generator has this id.
         ScenarioError: a side is not an integer in 8..10000, or the seed is invalid.
     """
-    info = GENERATORS.get(name)
-    if info is None:
-        raise UnknownIdError("generator", str(name), list(GENERATORS))
+    info = GENERATORS.get(name)  # UnknownIdError names the known ids
     if width is None and height is None:
         width, height = info.default_size
     elif width is None:

@@ -34,7 +34,14 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.comm import CommModel, MapSharing, Message, make_network, make_sharing
+from mrexplore.comm import (
+    CommModel,
+    CommSetup,
+    MapSharing,
+    Message,
+    make_comm_model,
+    make_sharing,
+)
 from mrexplore.comm.sharing import (
     BroadcastSharing,
     CellUpdates,
@@ -213,15 +220,20 @@ class Simulation:
             else cells_from_length(scenario.comm_range, self.world.grid, "--comm-range")
         )
         self.comm_range_cells = comm_range
-        self.comm: CommModel = make_network(
-            n,
-            comm_range=comm_range,
-            comm_los=scenario.comm_los,
-            bandwidth=scenario.bandwidth,
-            latency=scenario.latency,
-            loss=scenario.loss,
-            occupied=self.truth,
-            rng=self.streams.comm,
+        self.comm: CommModel = make_comm_model(
+            scenario.comm_model,
+            CommSetup(
+                n_robots=n,
+                occupied=self.truth,
+                rng=self.streams.comm,
+                comm_range=comm_range,
+                comm_los=scenario.comm_los,
+                bandwidth=scenario.bandwidth,
+                latency=scenario.latency,
+                loss=scenario.loss,
+                metres_per_cell=self.world.grid.resolution_m,
+            ),
+            scenario.comm_params,
         )
         self.failures: dict[int, list[int]] = {}
         for robot_id, fail_tick in scenario.fail:
@@ -810,6 +822,7 @@ class Simulation:
         status = self.status or "max_ticks"
         wall_time = time.perf_counter() - self._started
         ledger = self.comm.ledger
+        comm_stats = self.comm.stats()
         return RunRecord(
             scenario=scenario,
             world=self.world,
@@ -837,13 +850,13 @@ class Simulation:
             strategy_params=dict(self.strategies[0].p),
             comm_range_cells=self.comm_range_cells,
             comm_description=self.comm.describe(),
-            subnetworks=np.asarray(getattr(self.comm, "subnetwork_counts", []), dtype=np.int64),
-            partition_events=int(getattr(self.comm, "partition_events", 0)),
-            merge_events=int(getattr(self.comm, "merge_events", 0)),
+            subnetworks=np.asarray(comm_stats.subnetwork_counts, dtype=np.int64),
+            partition_events=int(comm_stats.partition_events),
+            merge_events=int(comm_stats.merge_events),
             messages_lost=ledger.lost,
             lost_by_type=dict(sorted(ledger.lost_by_type.items())),
             hops_by_type=dict(sorted(ledger.hops_by_type.items())),
-            queue_delay_mean=float(np.mean(getattr(self.comm, "queue_delays", [0]) or [0])),
+            queue_delay_mean=float(comm_stats.queue_delay_mean),
             sharing_metrics=self.sharing.metrics(),
             sharing=self.sharing_id,
             max_ticks=self.max_ticks,

@@ -218,7 +218,7 @@ class RunRecord:
                 "messages_lost": self.messages_lost,
                 "lost_by_type": self.lost_by_type,
                 "queue_delay_mean": self.queue_delay_mean,
-                "comm_model": self.comm_description,
+                "comm_description": self.comm_description,
                 "comm_range_cells": self.comm_range_cells,
                 "subnetworks_max": int(self.subnetworks.max(initial=1)),
                 "subnetworks_mean": float(self.subnetworks.mean())

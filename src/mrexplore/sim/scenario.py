@@ -67,6 +67,10 @@ class Scenario:
         bandwidth: bytes each robot may transmit per tick (``inf`` = unlimited).
         latency: ticks a message takes over one hop (at least 1).
         loss: probability that one reception of one hop is lost.
+        comm_model: communication model id (``--comm-model``, see ``mrexplore
+            comm-models``); the default ``network`` honours the five settings above.
+        comm_params: the communication model's own parameters (``--comm key=value``
+            with a key other than range, los, bandwidth, latency and loss).
         fail: robots that fail, as ``(robot, tick)`` pairs, at most one per robot.
         failure_rate: probability per tick that each live robot fails.
         sharing: map-sharing mechanism id; ``None`` = the strategy's default (``full``
@@ -102,6 +106,8 @@ class Scenario:
     bandwidth: float = math.inf
     latency: int = 1
     loss: float = 0.0
+    comm_model: str = "network"
+    comm_params: dict[str, Any] = field(default_factory=dict)
     fail: list[tuple[int, int]] = field(default_factory=list)
     failure_rate: float = 0.0
     sharing: str | None = None

@@ -228,7 +228,7 @@ def _describe(result: Mapping[str, Any], n_robots: int) -> dict[str, Any]:
     for key, label in (
         ("status", "status"),
         ("ticks", "ticks"),
-        ("comm_model", "communication"),
+        ("comm_description", "communication"),
         ("sharing", "sharing"),
         ("sensor_range_cells", "sensor range (cells)"),
         ("seed", "seed"),
