@@ -9,9 +9,9 @@ path, bit for bit)::
     # goal: the reachable frontier cell (not the source) of least distance, the
     # first in raster order among ties; path: extract_path(dist, goal)
 
-but without any pass over the whole map: the bucket-queue Dijkstra of
-:func:`~mrexplore.planning.distance.distance_field_kernel` reads the belief
-directly (a cell is passable when it is ``FREE``; the source always is), tests the
+but without any pass over the whole map: the bucket-queue Dijkstra behind
+:func:`~mrexplore.planning.distance.distance_field_kernel`
+(:func:`~mrexplore.planning._kernels.bucket_search`) reads the belief directly (a cell is passable when it is ``FREE``; the source always is), tests the
 frontier rule (``FREE`` with an ``UNKNOWN`` 4-neighbour) only on the cells it
 settles, and stops after the distance band of width 1 cell in which the first
 frontier cell is settled. Its buffers are kept between calls (one set per grid
@@ -30,7 +30,6 @@ from __future__ import annotations
 import threading
 from collections import OrderedDict
 
-import numba
 import numpy as np
 import numpy.typing as npt
 
@@ -41,57 +40,9 @@ from mrexplore.planning.distance import count_field, extract_path
 
 __all__ = ["nearest_frontier"]
 
+_NO_TARGETS = np.zeros(0, dtype=np.bool_)
 _MAX_WORKSPACES = 4
 """Buffer sets kept per thread (one per grid shape, least recently used dropped)."""
-
-
-@numba.njit(cache=True, nogil=True)
-def _nearest_frontier_kernel(
-    belief: npt.NDArray[np.int8],
-    height: int,
-    width: int,
-    source: int,
-    dist: npt.NDArray[np.float64],
-    state: npt.NDArray[np.uint8],
-    buckets: npt.NDArray[np.int32],
-    order: npt.NDArray[np.int32],
-) -> tuple[int, int]:  # pragma: no cover - compiled
-    """Bucket-queue Dijkstra from ``source`` over ``FREE`` cells of the flat ``belief``.
-
-    :func:`~mrexplore.planning._kernels.bucket_search`, the search of
-    :func:`~mrexplore.planning.distance.distance_field_kernel` (same order, same
-    float64 sums, so the same distances), with ``FREE`` cells passable. Stops after
-    the band in which the first frontier cell other than the source is settled.
-
-    Args:
-        dist: all ``inf`` on entry; on return the distance of every settled cell,
-            ``inf`` elsewhere. The caller resets ``dist[order[:settled]]`` to ``inf``.
-        state: all zero on entry and on return.
-        buckets: scratch ``(3, height * width)``.
-        order: output: the settled cells, in the order they were settled.
-
-    Returns:
-        ``(settled, goal)``: how many cells were settled and the flat index of the
-        chosen frontier cell (least distance, then least index), ``-1`` if none.
-    """
-    settled, goal = bucket_search(
-        belief,
-        0,
-        height,
-        width,
-        source,
-        np.zeros(0, dtype=np.bool_),
-        0,
-        np.inf,
-        True,
-        dist,
-        state,
-        buckets,
-        order,
-    )
-    for i in range(settled):
-        state[order[i]] = 0
-    return settled, goal
 
 
 class _Workspace:
@@ -149,21 +100,30 @@ def nearest_frontier(
     space = _workspace((height, width))
     flat = np.ascontiguousarray(grid).reshape(-1)
     count_field()
-    settled, goal = _nearest_frontier_kernel(
+    # The bucket search with FREE (0) cells passable, stopping after the band in
+    # which the first frontier cell other than the source is settled.
+    settled, goal = bucket_search(
         flat,
+        0,
         height,
         width,
         row * width + col,
+        _NO_TARGETS,
+        0,
+        np.inf,
+        True,
         space.dist,
         space.state,
         space.buckets,
         space.order,
     )
+    touched = space.order[:settled]
+    space.state[touched] = 0  # bucket_search left the other cells at 0
     try:
         if goal < 0:
             return None
         goal_cell = (goal // width, goal % width)
         path = extract_path(space.dist.reshape(height, width), goal_cell)
     finally:
-        space.dist[space.order[:settled]] = np.inf
+        space.dist[touched] = np.inf
     return goal_cell, path
