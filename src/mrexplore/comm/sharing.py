@@ -67,11 +67,17 @@ class MapSharing(ABC):
     id: str = ""
     message_types: frozenset[str] = frozenset()
 
+    acts_on_joins: bool = False
+    """Whether :meth:`on_topology` looks for links joining sub-networks and calls
+    :meth:`on_join` for each (off by default: it costs a pass over the links)."""
+
     def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
         """Called once before the run with the team size and the grid shape."""
         self.n_robots = n_robots
         self.shape = shape
         self.outbox: list[Message] = []
+        self.previous: list[frozenset[int]] = []
+        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
 
     def drain(self) -> list[Message]:
         """Messages the mechanism decided to send while receiving (e.g. a multicast)."""
@@ -100,8 +106,39 @@ class MapSharing(ABC):
         links: frozenset[tuple[int, int]],
         beliefs: Sequence[BeliefGrid],
     ) -> list[Message]:
-        """Like :meth:`on_tick`, with the direct links too; the simulator calls this one."""
-        return self.on_tick(tick, subnetworks, beliefs)
+        """Like :meth:`on_tick`, with the direct links too; the simulator calls this one.
+
+        With :attr:`acts_on_joins`, also :meth:`on_join` for every link that joins
+        sub-networks which were apart at the previous tick, after noting each end's
+        old sub-network for :meth:`rest_of_old_group`.
+        """
+        messages = self.on_tick(tick, subnetworks, beliefs)
+        if self.acts_on_joins:
+            if self.previous:
+                for a, b, group_a, group_b in joining_links(self.previous, links):
+                    self.old_group[(a, b)] = group_a
+                    self.old_group[(b, a)] = group_b
+                    messages.extend(self.on_join(tick, a, b, group_a, group_b, beliefs))
+            self.previous = subnetworks
+        return messages
+
+    def on_join(
+        self,
+        tick: int,
+        a: int,
+        b: int,
+        group_a: frozenset[int],
+        group_b: frozenset[int],
+        beliefs: Sequence[BeliefGrid],
+    ) -> list[Message]:
+        """Messages to send when the new link ``(a, b)`` joins ``a``'s old sub-network
+        ``group_a`` to ``b``'s ``group_b`` (with :attr:`acts_on_joins`; default: none)."""
+        return []
+
+    def rest_of_old_group(self, robot: int, peer: int) -> frozenset[int]:
+        """The rest of ``robot``'s sub-network before it joined ``peer``'s: who it
+        passes on what ``peer`` sent over their new link (once; empty afterwards)."""
+        return self.old_group.pop((robot, peer), frozenset()) - {robot}
 
     @abstractmethod
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
@@ -266,28 +303,22 @@ class FullSharing(BroadcastSharing):
 
     id = "full"
     message_types = frozenset({MAP_UPDATE, MAP_FULL, MAP_MULTICAST})
+    acts_on_joins = True
 
-    def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
-        super().bind(n_robots, shape)
-        self.previous: list[frozenset[int]] = []
-        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
-
-    def on_topology(
+    def on_join(
         self,
         tick: int,
-        subnetworks: list[frozenset[int]],
-        links: frozenset[tuple[int, int]],
+        a: int,
+        b: int,
+        group_a: frozenset[int],
+        group_b: frozenset[int],
         beliefs: Sequence[BeliefGrid],
     ) -> list[Message]:
-        messages: list[Message] = []
-        if self.previous:
-            for a, b, group_a, group_b in joining_links(self.previous, links):
-                for me, peer, my_group in ((a, b, group_a), (b, a, group_b)):
-                    self.old_group[(me, peer)] = my_group
-                    known = known_cells(beliefs[me])
-                    size = cell_updates_size(int(known.rows.size))
-                    messages.append(Message(MAP_FULL, me, peer, size, known, tick))
-        self.previous = subnetworks
+        messages = []
+        for me, peer in ((a, b), (b, a)):
+            known = known_cells(beliefs[me])
+            size = cell_updates_size(int(known.rows.size))
+            messages.append(Message(MAP_FULL, me, peer, size, known, tick))
         return messages
 
     def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
@@ -298,8 +329,7 @@ class FullSharing(BroadcastSharing):
             payload = message.payload
             assert isinstance(payload, CellUpdates)
             new += merge_unknown(belief, payload)
-            group = self.old_group.pop((robot, message.sender), frozenset())
-            others = group - {robot}
+            others = self.rest_of_old_group(robot, message.sender)
             if others:
                 size = cell_updates_size(int(payload.rows.size))
                 self.outbox.append(
