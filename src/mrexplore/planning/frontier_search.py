@@ -11,12 +11,13 @@ path, bit for bit)::
 
 but without any pass over the whole map: the bucket-queue Dijkstra behind
 :func:`~mrexplore.planning.distance.distance_field_kernel`
-(:func:`~mrexplore.planning._kernels.bucket_search`) reads the belief directly (a cell is passable when it is ``FREE``; the source always is), tests the
-frontier rule (``FREE`` with an ``UNKNOWN`` 4-neighbour) only on the cells it
-settles, and stops after the distance band of width 1 cell in which the first
-frontier cell is settled. Its buffers are kept between calls (one set per grid
-shape and thread) and only the cells a search touched are reset afterwards, so a
-call costs time in proportion to the area it searched, not to the map.
+(:func:`~mrexplore.planning._kernels.bucket_search`) reads the belief directly (a
+cell is passable when it is ``FREE``; the source always is), tests the frontier
+rule (``FREE`` with an ``UNKNOWN`` 4-neighbour) only on the cells it settles, and
+stops after the distance band of width 1 cell in which the first frontier cell is
+settled. Its buffers are kept between calls (one set per grid shape and thread) and
+only the cells a search touched are reset afterwards, so a call costs time in
+proportion to the area it searched, not to the map.
 
 When no frontier cell is reachable the search covers the source's whole component
 and the result is ``None``, as with the sequence above (which also returns no goal
