@@ -19,7 +19,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -115,24 +115,17 @@ class MapSharing(ABC):
         messages = self.on_tick(tick, subnetworks, beliefs)
         if self.acts_on_joins:
             if self.previous:
-                for a, b, group_a, group_b in joining_links(self.previous, links):
-                    self.old_group[(a, b)] = group_a
-                    self.old_group[(b, a)] = group_b
-                    messages.extend(self.on_join(tick, a, b, group_a, group_b, beliefs))
+                for join in joining_links(self.previous, links):
+                    self.old_group[(join.a, join.b)] = join.group_a
+                    self.old_group[(join.b, join.a)] = join.group_b
+                    messages.extend(self.on_join(tick, join, beliefs))
             self.previous = subnetworks
         return messages
 
-    def on_join(
-        self,
-        tick: int,
-        a: int,
-        b: int,
-        group_a: frozenset[int],
-        group_b: frozenset[int],
-        beliefs: Sequence[BeliefGrid],
-    ) -> list[Message]:
-        """Messages to send when the new link ``(a, b)`` joins ``a``'s old sub-network
-        ``group_a`` to ``b``'s ``group_b`` (with :attr:`acts_on_joins`; default: none)."""
+    def on_join(self, tick: int, join: Join, beliefs: Sequence[BeliefGrid]) -> list[Message]:
+        """Messages to send when the new link ``(join.a, join.b)`` joins ``a``'s old
+        sub-network ``join.group_a`` to ``b``'s ``join.group_b`` (with
+        :attr:`acts_on_joins`; default: none)."""
         return []
 
     def rest_of_old_group(self, robot: int, peer: int) -> frozenset[int]:
@@ -227,9 +220,18 @@ def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
     return n_new
 
 
-def joining_links(
-    previous: list[frozenset[int]], links: frozenset[tuple[int, int]]
-) -> list[tuple[int, int, frozenset[int], frozenset[int]]]:
+class Join(NamedTuple):
+    """A new link ``(a, b)`` between robots whose old sub-networks were apart."""
+
+    a: int
+    b: int
+    group_a: frozenset[int]
+    """``a``'s sub-network at the previous tick (``{a}`` if it was in none)."""
+    group_b: frozenset[int]
+    """``b``'s sub-network at the previous tick (``{b}`` if it was in none)."""
+
+
+def joining_links(previous: list[frozenset[int]], links: frozenset[tuple[int, int]]) -> list[Join]:
     """The new links that join sub-networks which were apart at the previous tick.
 
     One link per pair of old sub-networks joined (the lowest ``(a, b)``), with the
@@ -237,7 +239,7 @@ def joining_links(
     (tick 0) count as alone.
 
     >>> joining_links([frozenset({0, 1}), frozenset({2})], frozenset({(0, 1), (1, 2)}))
-    [(1, 2, frozenset({0, 1}), frozenset({2}))]
+    [Join(a=1, b=2, group_a=frozenset({0, 1}), group_b=frozenset({2}))]
     """
     old_group = {robot: group for group in previous for robot in group}
     # Most ticks every link lies inside one old sub-network: nothing joins.
@@ -257,7 +259,7 @@ def joining_links(
         root_a, root_b = root(group_a), root(group_b)
         if root_a != root_b:
             parent[root_b] = root_a
-            joins.append((a, b, group_a, group_b))
+            joins.append(Join(a, b, group_a, group_b))
     return joins
 
 
@@ -305,17 +307,9 @@ class FullSharing(BroadcastSharing):
     message_types = frozenset({MAP_UPDATE, MAP_FULL, MAP_MULTICAST})
     acts_on_joins = True
 
-    def on_join(
-        self,
-        tick: int,
-        a: int,
-        b: int,
-        group_a: frozenset[int],
-        group_b: frozenset[int],
-        beliefs: Sequence[BeliefGrid],
-    ) -> list[Message]:
+    def on_join(self, tick: int, join: Join, beliefs: Sequence[BeliefGrid]) -> list[Message]:
         messages = []
-        for me, peer in ((a, b), (b, a)):
+        for me, peer in ((join.a, join.b), (join.b, join.a)):
             known = known_cells(beliefs[me])
             size = cell_updates_size(int(known.rows.size))
             messages.append(Message(MAP_FULL, me, peer, size, known, tick))

@@ -68,6 +68,7 @@ from mrexplore.comm.bytes import (
 from mrexplore.comm.messages import MAP_DELTA, MAP_MULTICAST, MAP_SYNC, SEQ_TABLE, Message
 from mrexplore.comm.sharing import (
     CellUpdates,
+    Join,
     MapSharing,
     Observation,
     merge_many,
@@ -146,19 +147,12 @@ class ShengSync(MapSharing):
         self._store(robot, delta)
         return [Message(MAP_DELTA, robot, BROADCAST, deltas_size([delta]), (delta,), tick)]
 
-    def on_join(
-        self,
-        tick: int,
-        a: int,
-        b: int,
-        group_a: frozenset[int],
-        group_b: frozenset[int],
-        beliefs: Sequence[BeliefGrid],
-    ) -> list[Message]:
+    def on_join(self, tick: int, join: Join, beliefs: Sequence[BeliefGrid]) -> list[Message]:
         # The base class noted each end's old sub-network: step 10's recipients.
         self.merges += 1
         messages = []
-        for me, peer, peer_group in ((a, b, group_b), (b, a, group_a)):
+        sides = ((join.a, join.b, join.group_b), (join.b, join.a, join.group_a))
+        for me, peer, peer_group in sides:
             size = HEADER_BYTES + SEQUENCE_ENTRY_BYTES * self.n_robots
             table = self.last[me].copy()
             messages.append(Message(SEQ_TABLE, me, peer, size, table, tick))  # step 4
