@@ -44,7 +44,7 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import BinaryIO, TypeGuard
+from typing import Any, BinaryIO, TypeGuard
 
 import numpy as np
 import numpy.typing as npt
@@ -621,16 +621,25 @@ def _load_ros(path: Path) -> GridMap:
     )
 
 
-def _load_bare_image(path: Path) -> GridMap:
-    states = _read_image_states(path, _PixelRule())
-    occupied, crop, border = _crop_and_close(path, states)
+def _unitless_map(path: Path, occupied: BoolGrid, meta: dict[str, Any]) -> GridMap:
+    """The map of a file that gives no cell size (an image, a MovingAI map)."""
     return GridMap(
         occupied=occupied,
         name=_map_name(path),
         resolution_m=None,
         source=str(path),
         credit=credit_for_file(path),
-        meta={
+        meta=meta,
+    )
+
+
+def _load_bare_image(path: Path) -> GridMap:
+    states = _read_image_states(path, _PixelRule())
+    occupied, crop, border = _crop_and_close(path, states)
+    return _unitless_map(
+        path,
+        occupied,
+        {
             "format": "image",
             "negate": 0,
             "occupied_thresh": DEFAULT_OCCUPIED_THRESH,
@@ -696,14 +705,8 @@ def _load_movingai(path: Path) -> GridMap:
         )
     states = np.where(codes == 0, FREE, OCCUPIED).astype(np.int8)
     occupied, _crop, border = _crop_and_close(path, states)
-    return GridMap(
-        occupied=occupied,
-        name=_map_name(path),
-        resolution_m=None,
-        source=str(path),
-        credit=credit_for_file(path),
-        meta={"format": "movingai", "type": type_words[1], "border_added": bool(border)},
-    )
+    meta = {"format": "movingai", "type": type_words[1], "border_added": bool(border)}
+    return _unitless_map(path, occupied, meta)
 
 
 # --------------------------------------------------------------------------- HouseExpo
