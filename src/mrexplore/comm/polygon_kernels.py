@@ -402,19 +402,6 @@ def _draw_line(
 
 
 @numba.njit(cache=True, nogil=True)
-def _following_vertex(offsets: IntArray) -> IntArray:
-    """``following[i]``: the vertex after ``i`` on its polygon's boundary, which closes
-    (the last vertex of ``xy[offsets[q]:offsets[q + 1]]`` is followed by the first)."""
-    following = np.empty(offsets[offsets.size - 1], dtype=np.int64)
-    for q in range(offsets.size - 1):
-        lo = offsets[q]
-        hi = offsets[q + 1]
-        for i in range(lo, hi):
-            following[i] = i + 1 if i + 1 < hi else lo
-    return following
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
 def _crossed_rows(ya: int, yb: int, row0: int, row1: int) -> tuple[int, int]:
     """The rows ``first .. last - 1`` of the window ``row0 .. row1 - 1`` whose centre
     line the edge from row ``ya`` to row ``yb`` crosses (half-open: ``min .. max - 1``)."""
@@ -448,9 +435,14 @@ def rasterise(
     n_polygons = offsets.size - 1
     if n_polygons < 1:
         return
-    following = _following_vertex(offsets)
     first_vertex = offsets[0]
     end_vertex = offsets[n_polygons]
+    # following[i]: the vertex after i on its polygon's boundary, which closes (the
+    # last vertex of xy[offsets[q]:offsets[q + 1]] is followed by the first).
+    following = np.empty(end_vertex, dtype=np.int64)
+    for q in range(n_polygons):
+        for i in range(offsets[q], offsets[q + 1]):
+            following[i] = i + 1 if i + 1 < offsets[q + 1] else offsets[q]
     # Scanline crossings, bucketed per window row: count, then fill.
     counts = np.zeros(height + 1, dtype=np.int64)
     for i in range(first_vertex, end_vertex):
