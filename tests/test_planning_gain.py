@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from mrexplore.errors import MrexploreInputError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import disk_offsets, information_gain
-from mrexplore.planning.gain import _gain_direct_kernel, _gain_prefix_kernel, _half_widths
+from mrexplore.planning.gain import _gain_disk_kernel, _half_widths
 from mrexplore.sensing import is_visible
 
 
@@ -100,8 +100,8 @@ def test_direct_and_prefix_kernels_agree(
         return
     widths = _half_widths(radius)
     for use_exclude in (False, True):
-        direct = _gain_direct_kernel(belief, exclude, use_exclude, candidates, widths)
-        prefix = _gain_prefix_kernel(belief, exclude, use_exclude, candidates, widths)
+        direct = _gain_disk_kernel(belief, exclude, use_exclude, candidates, widths, False)
+        prefix = _gain_disk_kernel(belief, exclude, use_exclude, candidates, widths, True)
         np.testing.assert_array_equal(direct, prefix)
 
 

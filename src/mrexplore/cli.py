@@ -10,7 +10,7 @@ import argparse
 import logging
 import signal
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, NoReturn
 
 from mrexplore import __version__
@@ -59,6 +59,14 @@ def _float(option: str) -> Any:
     return convert
 
 
+def _add_number(
+    group: Any, flag: str, convert: Callable[[str], Any], help_text: str, **options: Any
+) -> None:
+    """Add the numeric option ``flag`` to ``group``; ``convert`` is :func:`_float` or
+    :func:`_positive_int`, whose error messages name the option."""
+    group.add_argument(flag, type=convert(flag), help=help_text, **options)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mrexplore", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"mrexplore {__version__}")
@@ -105,19 +113,15 @@ def build_parser() -> argparse.ArgumentParser:
         default="8",
         help="sensor radius: cells, or metres with 'm' such as 3m (default: 8 cells)",
     )
-    run.add_argument(
-        "--speed",
-        type=_float("--speed"),
-        default=1.0,
-        help="cells of path per tick (default: 1)",
-    )
+    _add_number(run, "--speed", _float, "cells of path per tick (default: 1)", default=1.0)
     run.add_argument(
         "--seed", type=int, default=0, help="master seed of every random choice (default: 0)"
     )
-    run.add_argument(
+    _add_number(
+        run,
         "--max-ticks",
-        type=_positive_int("--max-ticks"),
-        help="limit on the run, ticks (default: 20 x explorable cells / speed, at least 1000)",
+        _positive_int,
+        "limit on the run, ticks (default: 20 x explorable cells / speed, at least 1000)",
     )
     run.add_argument(
         "--start",
@@ -156,18 +160,10 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="walls between two robots block their link (default: off)",
     )
-    comm.add_argument(
-        "--bandwidth",
-        type=_float("--bandwidth"),
-        help="bytes per tick per robot (default: inf = unlimited)",
-    )
-    comm.add_argument(
-        "--latency", type=_positive_int("--latency"), help="ticks per hop (default: 1 tick)"
-    )
-    comm.add_argument(
-        "--loss",
-        type=_float("--loss"),
-        help="probability in [0, 1] that a reception is lost (default: 0)",
+    _add_number(comm, "--bandwidth", _float, "bytes per tick per robot (default: inf = unlimited)")
+    _add_number(comm, "--latency", _positive_int, "ticks per hop (default: 1 tick)")
+    _add_number(
+        comm, "--loss", _float, "probability in [0, 1] that a reception is lost (default: 0)"
     )
     comm.add_argument(
         "--comm",
@@ -185,11 +181,12 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="ROBOT@TICK",
         help="robot ROBOT (an id from 0) fails at tick TICK (repeatable; default: none)",
     )
-    comm.add_argument(
+    _add_number(
+        comm,
         "--failure-rate",
-        type=_float("--failure-rate"),
+        _float,
+        "probability per tick that each live robot fails (default: 0)",
         default=0.0,
-        help="probability per tick that each live robot fails (default: 0)",
     )
     run.add_argument(
         "--sharing",

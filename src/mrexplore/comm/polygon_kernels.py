@@ -402,6 +402,13 @@ def _draw_line(
 
 
 @numba.njit(cache=True, nogil=True)
+def _crossed_rows(ya: int, yb: int, row0: int, row1: int) -> tuple[int, int]:
+    """The rows ``first .. last - 1`` of the window ``row0 .. row1 - 1`` whose centre
+    line the edge from row ``ya`` to row ``yb`` crosses (half-open: ``min .. max - 1``)."""
+    return max(min(ya, yb), row0), min(max(ya, yb), row1)
+
+
+@numba.njit(cache=True, nogil=True)
 def rasterise(
     xy: npt.NDArray[np.int32],
     offsets: IntArray,
@@ -426,46 +433,48 @@ def rasterise(
     height, width = out.shape
     row1 = row0 + height
     n_polygons = offsets.size - 1
+    if n_polygons < 1:
+        return
+    first_vertex = offsets[0]
+    end_vertex = offsets[n_polygons]
+    # following[i]: the vertex after i on its polygon's boundary, which closes (the
+    # last vertex of xy[offsets[q]:offsets[q + 1]] is followed by the first).
+    following = np.empty(end_vertex, dtype=np.int64)
+    for q in range(n_polygons):
+        for i in range(offsets[q], offsets[q + 1]):
+            following[i] = i + 1 if i + 1 < offsets[q + 1] else offsets[q]
     # Scanline crossings, bucketed per window row: count, then fill.
     counts = np.zeros(height + 1, dtype=np.int64)
-    for q in range(n_polygons):
-        lo = offsets[q]
-        hi = offsets[q + 1]
-        for i in range(lo, hi):
-            j = i + 1 if i + 1 < hi else lo
-            ya = int(xy[i, 1])
-            yb = int(xy[j, 1])
-            if ya == yb:
-                continue
-            y_min = min(ya, yb)
-            y_max = max(ya, yb)  # half-open: rows y_min .. y_max - 1 cross
-            first = max(y_min, row0)
-            last = min(y_max, row1)
-            for y in range(first, last):
-                counts[y - row0 + 1] += 1
+    for i in range(first_vertex, end_vertex):
+        j = following[i]
+        first, last = _crossed_rows(int(xy[i, 1]), int(xy[j, 1]), row0, row1)
+        for y in range(first, last):
+            counts[y - row0 + 1] += 1
     for r in range(height):
         counts[r + 1] += counts[r]
     crossings = np.empty(counts[height], dtype=np.float64)
     fill = counts[:height].copy()
-    for q in range(n_polygons):
-        lo = offsets[q]
-        hi = offsets[q + 1]
-        for i in range(lo, hi):
-            j = i + 1 if i + 1 < hi else lo
-            xa = float(xy[i, 0])
-            ya = int(xy[i, 1])
-            xb = float(xy[j, 0])
-            yb = int(xy[j, 1])
-            if ya == yb:
-                continue
-            y_min = min(ya, yb)
-            y_max = max(ya, yb)
-            first = max(y_min, row0)
-            last = min(y_max, row1)
+    for i in range(first_vertex, end_vertex):
+        j = following[i]
+        xa = int(xy[i, 0])
+        ya = int(xy[i, 1])
+        xb = int(xy[j, 0])
+        yb = int(xy[j, 1])
+        if ya != yb:  # a horizontal edge crosses no row's centre line
+            first, last = _crossed_rows(ya, yb, row0, row1)
             slope = (xb - xa) / (yb - ya)
             for y in range(first, last):
                 crossings[fill[y - row0]] = xa + (y - ya) * slope
                 fill[y - row0] += 1
+        # The edge's own cells (single vertices too), so thin and degenerate
+        # polygons keep their cells; cells are only ever set, so in any order.
+        if not (
+            max(xa, xb) < col0
+            or min(xa, xb) >= col0 + width
+            or max(ya, yb) < row0
+            or min(ya, yb) >= row1
+        ):
+            _draw_line(out, xa, ya, xb, yb, row0, col0)
     for r in range(height):
         lo = counts[r]
         hi = counts[r + 1]
@@ -481,21 +490,3 @@ def rasterise(
                 c_last = width - 1
             for c in range(c_first, c_last + 1):
                 out[r, c] = True
-    # Edges (and single vertices), so thin and degenerate polygons keep their cells.
-    for q in range(n_polygons):
-        lo = offsets[q]
-        hi = offsets[q + 1]
-        for i in range(lo, hi):
-            j = i + 1 if i + 1 < hi else lo
-            xa = int(xy[i, 0])
-            ya = int(xy[i, 1])
-            xb = int(xy[j, 0])
-            yb = int(xy[j, 1])
-            if (
-                max(xa, xb) < col0
-                or min(xa, xb) >= col0 + width
-                or max(ya, yb) < row0
-                or min(ya, yb) >= row1
-            ):
-                continue
-            _draw_line(out, xa, ya, xb, yb, row0, col0)

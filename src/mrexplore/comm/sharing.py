@@ -19,7 +19,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -68,11 +68,17 @@ class MapSharing(ABC):
     id: str = ""
     message_types: frozenset[str] = frozenset()
 
+    acts_on_joins: bool = False
+    """Whether :meth:`on_topology` looks for links joining sub-networks and calls
+    :meth:`on_join` for each (off by default: it costs a pass over the links)."""
+
     def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
         """Called once before the run with the team size and the grid shape."""
         self.n_robots = n_robots
         self.shape = shape
         self.outbox: list[Message] = []
+        self.previous: list[frozenset[int]] = []
+        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
 
     def drain(self) -> list[Message]:
         """Messages the mechanism decided to send while receiving (e.g. a multicast)."""
@@ -101,8 +107,32 @@ class MapSharing(ABC):
         links: frozenset[tuple[int, int]],
         beliefs: Sequence[BeliefGrid],
     ) -> list[Message]:
-        """Like :meth:`on_tick`, with the direct links too; the simulator calls this one."""
-        return self.on_tick(tick, subnetworks, beliefs)
+        """Like :meth:`on_tick`, with the direct links too; the simulator calls this one.
+
+        With :attr:`acts_on_joins`, also :meth:`on_join` for every link that joins
+        sub-networks which were apart at the previous tick, after noting each end's
+        old sub-network for :meth:`rest_of_old_group`.
+        """
+        messages = self.on_tick(tick, subnetworks, beliefs)
+        if self.acts_on_joins:
+            if self.previous:
+                for join in joining_links(self.previous, links):
+                    self.old_group[(join.a, join.b)] = join.group_a
+                    self.old_group[(join.b, join.a)] = join.group_b
+                    messages.extend(self.on_join(tick, join, beliefs))
+            self.previous = subnetworks
+        return messages
+
+    def on_join(self, tick: int, join: Join, beliefs: Sequence[BeliefGrid]) -> list[Message]:
+        """Messages to send when the new link ``(join.a, join.b)`` joins ``a``'s old
+        sub-network ``join.group_a`` to ``b``'s ``join.group_b`` (with
+        :attr:`acts_on_joins`; default: none)."""
+        return []
+
+    def rest_of_old_group(self, robot: int, peer: int) -> frozenset[int]:
+        """The rest of ``robot``'s sub-network before it joined ``peer``'s: who it
+        passes on what ``peer`` sent over their new link (once; empty afterwards)."""
+        return self.old_group.pop((robot, peer), frozenset()) - {robot}
 
     @abstractmethod
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
@@ -191,9 +221,18 @@ def merge_unknown(belief: BeliefGrid, updates: CellUpdates) -> int:
     return n_new
 
 
-def joining_links(
-    previous: list[frozenset[int]], links: frozenset[tuple[int, int]]
-) -> list[tuple[int, int, frozenset[int], frozenset[int]]]:
+class Join(NamedTuple):
+    """A new link ``(a, b)`` between robots whose old sub-networks were apart."""
+
+    a: int
+    b: int
+    group_a: frozenset[int]
+    """``a``'s sub-network at the previous tick (``{a}`` if it was in none)."""
+    group_b: frozenset[int]
+    """``b``'s sub-network at the previous tick (``{b}`` if it was in none)."""
+
+
+def joining_links(previous: list[frozenset[int]], links: frozenset[tuple[int, int]]) -> list[Join]:
     """The new links that join sub-networks which were apart at the previous tick.
 
     One link per pair of old sub-networks joined (the lowest ``(a, b)``), with the
@@ -201,7 +240,7 @@ def joining_links(
     (tick 0) count as alone.
 
     >>> joining_links([frozenset({0, 1}), frozenset({2})], frozenset({(0, 1), (1, 2)}))
-    [(1, 2, frozenset({0, 1}), frozenset({2}))]
+    [Join(a=1, b=2, group_a=frozenset({0, 1}), group_b=frozenset({2}))]
     """
     old_group = {robot: group for group in previous for robot in group}
     # Most ticks every link lies inside one old sub-network: nothing joins.
@@ -221,7 +260,7 @@ def joining_links(
         root_a, root_b = root(group_a), root(group_b)
         if root_a != root_b:
             parent[root_b] = root_a
-            joins.append((a, b, group_a, group_b))
+            joins.append(Join(a, b, group_a, group_b))
     return joins
 
 
@@ -267,28 +306,14 @@ class FullSharing(BroadcastSharing):
 
     id = "full"
     message_types = frozenset({MAP_UPDATE, MAP_FULL, MAP_MULTICAST})
+    acts_on_joins = True
 
-    def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
-        super().bind(n_robots, shape)
-        self.previous: list[frozenset[int]] = []
-        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
-
-    def on_topology(
-        self,
-        tick: int,
-        subnetworks: list[frozenset[int]],
-        links: frozenset[tuple[int, int]],
-        beliefs: Sequence[BeliefGrid],
-    ) -> list[Message]:
-        messages: list[Message] = []
-        if self.previous:
-            for a, b, group_a, group_b in joining_links(self.previous, links):
-                for me, peer, my_group in ((a, b, group_a), (b, a, group_b)):
-                    self.old_group[(me, peer)] = my_group
-                    known = known_cells(beliefs[me])
-                    size = cell_updates_size(int(known.rows.size))
-                    messages.append(Message(MAP_FULL, me, peer, size, known, tick))
-        self.previous = subnetworks
+    def on_join(self, tick: int, join: Join, beliefs: Sequence[BeliefGrid]) -> list[Message]:
+        messages = []
+        for me, peer in ((join.a, join.b), (join.b, join.a)):
+            known = known_cells(beliefs[me])
+            size = cell_updates_size(int(known.rows.size))
+            messages.append(Message(MAP_FULL, me, peer, size, known, tick))
         return messages
 
     def on_receive_all(self, robot: int, belief: BeliefGrid, messages: list[Message]) -> int:
@@ -299,8 +324,7 @@ class FullSharing(BroadcastSharing):
             payload = message.payload
             assert isinstance(payload, CellUpdates)
             new += merge_unknown(belief, payload)
-            group = self.old_group.pop((robot, message.sender), frozenset())
-            others = group - {robot}
+            others = self.rest_of_old_group(robot, message.sender)
             if others:
                 size = cell_updates_size(int(payload.rows.size))
                 self.outbox.append(

@@ -68,9 +68,9 @@ from mrexplore.comm.bytes import (
 from mrexplore.comm.messages import MAP_DELTA, MAP_MULTICAST, MAP_SYNC, SEQ_TABLE, Message
 from mrexplore.comm.sharing import (
     CellUpdates,
+    Join,
     MapSharing,
     Observation,
-    joining_links,
     merge_many,
     new_cells,
 )
@@ -102,6 +102,7 @@ class ShengSync(MapSharing):
 
     id = "sheng-sync"
     message_types = frozenset({MAP_DELTA, SEQ_TABLE, MAP_SYNC, MAP_MULTICAST})
+    acts_on_joins = True
 
     def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
         super().bind(n_robots, shape)
@@ -110,8 +111,6 @@ class ShengSync(MapSharing):
             [{} for _ in range(n_robots)] for _ in range(n_robots)
         ]
         self.last: npt.NDArray[np.int64] = np.zeros((n_robots, n_robots), dtype=np.int64)
-        self.previous: list[frozenset[int]] = []
-        self.old_group: dict[tuple[int, int], frozenset[int]] = {}
         self.merges = self.with_tracking = self.without_tracking = self.synced_cells = 0
         self.cells_with = self.cells_without = 0  # cell entries in those bytes
 
@@ -148,32 +147,21 @@ class ShengSync(MapSharing):
         self._store(robot, delta)
         return [Message(MAP_DELTA, robot, BROADCAST, deltas_size([delta]), (delta,), tick)]
 
-    def on_topology(
-        self,
-        tick: int,
-        subnetworks: list[frozenset[int]],
-        links: frozenset[tuple[int, int]],
-        beliefs: Sequence[BeliefGrid],
-    ) -> list[Message]:
-        messages: list[Message] = []
-        if self.previous:
-            for a, b, group_a, group_b in joining_links(self.previous, links):
-                self.merges += 1
-                for me, peer, my_group, peer_group in (
-                    (a, b, group_a, group_b),
-                    (b, a, group_b, group_a),
-                ):
-                    self.old_group[(me, peer)] = my_group  # step 10's recipients
-                    size = HEADER_BYTES + SEQUENCE_ENTRY_BYTES * self.n_robots
-                    table = self.last[me].copy()
-                    messages.append(Message(SEQ_TABLE, me, peer, size, table, tick))  # step 4
-                    self.with_tracking += size
-                    # Without tracking: my whole map to the peer, which multicasts it on.
-                    known = int(np.count_nonzero(beliefs[me] != UNKNOWN))
-                    copies = 1 + (len(peer_group) > 1)
-                    self.without_tracking += cell_updates_size(known) * copies
-                    self.cells_without += known * copies
-        self.previous = subnetworks
+    def on_join(self, tick: int, join: Join, beliefs: Sequence[BeliefGrid]) -> list[Message]:
+        # The base class noted each end's old sub-network: step 10's recipients.
+        self.merges += 1
+        messages = []
+        sides = ((join.a, join.b, join.group_b), (join.b, join.a, join.group_a))
+        for me, peer, peer_group in sides:
+            size = HEADER_BYTES + SEQUENCE_ENTRY_BYTES * self.n_robots
+            table = self.last[me].copy()
+            messages.append(Message(SEQ_TABLE, me, peer, size, table, tick))  # step 4
+            self.with_tracking += size
+            # Without tracking: my whole map to the peer, which multicasts it on.
+            known = int(np.count_nonzero(beliefs[me] != UNKNOWN))
+            copies = 1 + (len(peer_group) > 1)
+            self.without_tracking += cell_updates_size(known) * copies
+            self.cells_without += known * copies
         return messages
 
     def on_receive(self, robot: int, belief: BeliefGrid, message: Message) -> int:
@@ -194,7 +182,7 @@ class ShengSync(MapSharing):
             stored = [d for d in message.payload if self._store(robot, d)]  # steps 8-9
             fresh.extend(d.cells for d in stored)
             if message.type == MAP_SYNC:  # step 10
-                others = self.old_group.pop((robot, message.sender), frozenset()) - {robot}
+                others = self.rest_of_old_group(robot, message.sender)
                 if others and message.payload:
                     self.with_tracking += message.size_bytes
                     self.cells_with += sum(int(d.cells.rows.size) for d in message.payload)

@@ -102,6 +102,22 @@ _PIBT2_LICENCE = "Kei18__pibt2__LICENCE.txt"
 _NAV2_LICENCE = "ros-navigation__navigation2__LICENSE"
 
 
+def _nav2(name: str, sha256: str, description: str) -> MapEntry:
+    """A map of Nav2's ``nav2_bringup/maps/``: ``name.pgm`` with a ``name.yaml``."""
+    return MapEntry(
+        name=name,
+        file=f"{name}.yaml",
+        kind="ros",
+        description=description,
+        source="ros-navigation/navigation2, nav2_bringup/maps/",
+        source_file=f"{name}.pgm",
+        source_sha256=sha256,
+        licence="Apache-2.0",
+        licence_file=_NAV2_LICENCE,
+        credit=f"Nav2 {name}: " + _NAV2,
+    )
+
+
 def _movingai(name: str, sha256: str, description: str, credit_extra: str = "") -> MapEntry:
     return MapEntry(
         name=name,
@@ -171,29 +187,15 @@ CATALOGUE: tuple[MapEntry, ...] = (
         licence_file="turtlebot__turtlebot_apps__turtlebot_navigation_package.xml.license-line",
         credit="Willow Garage: turtlebot/turtlebot_apps (BSD)",
     ),
-    MapEntry(
-        name="depot",
-        file="depot.yaml",
-        kind="ros",
-        description="open hall with scattered obstacles",
-        source="ros-navigation/navigation2, nav2_bringup/maps/",
-        source_file="depot.pgm",
-        source_sha256="71bbac79cfc2f5db89095182bfa86b29d96b07d4ed3b7726e513ed57afffc851",
-        licence="Apache-2.0",
-        licence_file=_NAV2_LICENCE,
-        credit="Nav2 depot: " + _NAV2,
+    _nav2(
+        "depot",
+        "71bbac79cfc2f5db89095182bfa86b29d96b07d4ed3b7726e513ed57afffc851",
+        "open hall with scattered obstacles",
     ),
-    MapEntry(
-        name="warehouse",
-        file="warehouse.yaml",
-        kind="ros",
-        description="shelf rows and aisles",
-        source="ros-navigation/navigation2, nav2_bringup/maps/",
-        source_file="warehouse.pgm",
-        source_sha256="934ce2ca1feacc2216b68142349c6ebb3e46cc7c76fd80a9c2d2a6fb85ba7ff7",
-        licence="Apache-2.0",
-        licence_file=_NAV2_LICENCE,
-        credit="Nav2 warehouse: " + _NAV2,
+    _nav2(
+        "warehouse",
+        "934ce2ca1feacc2216b68142349c6ebb3e46cc7c76fd80a9c2d2a6fb85ba7ff7",
+        "shelf rows and aisles",
     ),
     MapEntry(
         name="lse-arena",

@@ -42,9 +42,9 @@ import os
 import re
 import warnings
 from collections.abc import Mapping
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import BinaryIO, TypeGuard
+from typing import Any, BinaryIO, TypeGuard
 
 import numpy as np
 import numpy.typing as npt
@@ -372,15 +372,18 @@ def _read_pillow(path: Path) -> tuple[npt.NDArray[np.uint32], int, int]:
         raise MapFileError(path, f"cannot decode image: {_one_line(exc)}") from exc
 
 
+@dataclass(frozen=True)
+class _PixelRule:
+    """How a ROS map YAML says to read its image's pixels (see :func:`_trinary`)."""
+
+    negate: bool = False
+    occupied_thresh: float = DEFAULT_OCCUPIED_THRESH
+    free_thresh: float = DEFAULT_FREE_THRESH
+    mode: str = "trinary"
+
+
 def _trinary(
-    pixel_sum: npt.NDArray[np.integer],
-    channels: int,
-    maxval: int,
-    *,
-    negate: bool,
-    occupied_thresh: float,
-    free_thresh: float,
-    mode: str = "trinary",
+    pixel_sum: npt.NDArray[np.integer], channels: int, maxval: int, rule: _PixelRule
 ) -> npt.NDArray[np.int8]:
     """The cell classes ROS ``map_server`` gives an image, through a lookup table.
 
@@ -406,42 +409,27 @@ def _trinary(
     levels = np.arange(maxval * channels + 1, dtype=np.float64) / channels
     p = levels / maxval
     lut = np.full(levels.shape, UNKNOWN, dtype=np.int8)
-    if mode == "raw":
+    if rule.mode == "raw":
         value = np.floor(255.0 * p + 0.5)  # std::round on non-negative values
         lut[value <= 100] = OCCUPIED
         lut[value == 0] = FREE
         return lut[pixel_sum]
-    occ = p if negate else 1.0 - p
-    if mode == "scale":
+    occ = p if rule.negate else 1.0 - p
+    if rule.mode == "scale":
         lut[:] = OCCUPIED
-    lut[occ < free_thresh] = FREE
-    lut[occ > occupied_thresh] = OCCUPIED
+    lut[occ < rule.free_thresh] = FREE
+    lut[occ > rule.occupied_thresh] = OCCUPIED
     return lut[pixel_sum]
 
 
-def _read_image_states(
-    path: Path,
-    *,
-    negate: bool,
-    occupied_thresh: float,
-    free_thresh: float,
-    mode: str = "trinary",
-) -> npt.NDArray[np.int8]:
+def _read_image_states(path: Path, rule: _PixelRule) -> npt.NDArray[np.int8]:
     if path.suffix.lower() in (".pgm", ".pnm"):
         pixels, maxval = _read_pgm_with_maxval(path)
         pixel_sum: npt.NDArray[np.integer] = pixels
         channels = 1
     else:
         pixel_sum, channels, maxval = _read_pillow(path)
-    return _trinary(
-        pixel_sum,
-        channels,
-        maxval,
-        negate=negate,
-        occupied_thresh=occupied_thresh,
-        free_thresh=free_thresh,
-        mode=mode,
-    )
+    return _trinary(pixel_sum, channels, maxval, rule)
 
 
 # --------------------------------------------------------------------------- crop / border
@@ -604,13 +592,8 @@ def _load_ros(path: Path) -> GridMap:
         raise MapFileError(
             path, f"cannot access image {_describe(image)}: {_one_line(exc)}"
         ) from exc
-    states = _read_image_states(
-        image_path,
-        negate=negate,
-        occupied_thresh=occupied_thresh,
-        free_thresh=free_thresh,
-        mode=mode,
-    )
+    rule = _PixelRule(negate, occupied_thresh, free_thresh, mode)
+    states = _read_image_states(image_path, rule)
     occupied, crop, border = _crop_and_close(image_path, states)
     row0, col0, row1, col1 = crop
     image_rows = states.shape[0]
@@ -638,21 +621,25 @@ def _load_ros(path: Path) -> GridMap:
     )
 
 
-def _load_bare_image(path: Path) -> GridMap:
-    states = _read_image_states(
-        path,
-        negate=False,
-        occupied_thresh=DEFAULT_OCCUPIED_THRESH,
-        free_thresh=DEFAULT_FREE_THRESH,
-    )
-    occupied, crop, border = _crop_and_close(path, states)
+def _unitless_map(path: Path, occupied: BoolGrid, meta: dict[str, Any]) -> GridMap:
+    """The map of a file that gives no cell size (an image, a MovingAI map)."""
     return GridMap(
         occupied=occupied,
         name=_map_name(path),
         resolution_m=None,
         source=str(path),
         credit=credit_for_file(path),
-        meta={
+        meta=meta,
+    )
+
+
+def _load_bare_image(path: Path) -> GridMap:
+    states = _read_image_states(path, _PixelRule())
+    occupied, crop, border = _crop_and_close(path, states)
+    return _unitless_map(
+        path,
+        occupied,
+        {
             "format": "image",
             "negate": 0,
             "occupied_thresh": DEFAULT_OCCUPIED_THRESH,
@@ -718,14 +705,8 @@ def _load_movingai(path: Path) -> GridMap:
         )
     states = np.where(codes == 0, FREE, OCCUPIED).astype(np.int8)
     occupied, _crop, border = _crop_and_close(path, states)
-    return GridMap(
-        occupied=occupied,
-        name=_map_name(path),
-        resolution_m=None,
-        source=str(path),
-        credit=credit_for_file(path),
-        meta={"format": "movingai", "type": type_words[1], "border_added": bool(border)},
-    )
+    meta = {"format": "movingai", "type": type_words[1], "border_added": bool(border)}
+    return _unitless_map(path, occupied, meta)
 
 
 # --------------------------------------------------------------------------- HouseExpo

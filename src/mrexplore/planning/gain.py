@@ -43,46 +43,10 @@ def _half_widths(radius: float) -> npt.NDArray[np.int64]:
 
 
 @numba.njit(cache=True, nogil=True)
-def _gain_direct_kernel(
-    belief: npt.NDArray[np.int8],
-    exclude: npt.NDArray[np.bool_],
-    use_exclude: bool,
-    candidates: npt.NDArray[np.int64],
-    half_widths: npt.NDArray[np.int64],
-) -> GainArray:
-    """Count unknown cells disk by disk: cheap for few candidates."""
-    height, width = belief.shape
-    reach = (half_widths.shape[0] - 1) // 2
-    gains = np.zeros(candidates.shape[0], dtype=np.int64)
-    for k in range(candidates.shape[0]):
-        row = candidates[k, 0]
-        col = candidates[k, 1]
-        count = 0
-        for d_row in range(-reach, reach + 1):
-            r = row + d_row
-            if r < 0 or r >= height:
-                continue
-            half = half_widths[d_row + reach]
-            # Branch-free sums: beliefs mix values at random, branches mispredict.
-            if use_exclude:
-                for c in range(max(0, col - half), min(width - 1, col + half) + 1):
-                    count += (belief[r, c] == UNKNOWN) & (not exclude[r, c])
-            else:
-                for c in range(max(0, col - half), min(width - 1, col + half) + 1):
-                    count += belief[r, c] == UNKNOWN
-        gains[k] = count
-    return gains
-
-
-@numba.njit(cache=True, nogil=True)
-def _gain_prefix_kernel(
-    belief: npt.NDArray[np.int8],
-    exclude: npt.NDArray[np.bool_],
-    use_exclude: bool,
-    candidates: npt.NDArray[np.int64],
-    half_widths: npt.NDArray[np.int64],
-) -> GainArray:
-    """Count with per-row prefix sums: one pass over the grid, then O(radius) per candidate."""
+def _unknown_prefix_sums(
+    belief: npt.NDArray[np.int8], exclude: npt.NDArray[np.bool_], use_exclude: bool
+) -> npt.NDArray[np.int32]:
+    """``out[r, c]``: unknown (and not excluded) cells among ``belief[r, :c]``."""
     height, width = belief.shape
     prefix = np.empty((height, width + 1), dtype=np.int32)
     for r in range(height):
@@ -94,6 +58,29 @@ def _gain_prefix_kernel(
             else:
                 running += belief[r, c] == UNKNOWN
             prefix[r, c + 1] = running
+    return prefix
+
+
+@numba.njit(cache=True, nogil=True)
+def _gain_disk_kernel(
+    belief: npt.NDArray[np.int8],
+    exclude: npt.NDArray[np.bool_],
+    use_exclude: bool,
+    candidates: npt.NDArray[np.int64],
+    half_widths: npt.NDArray[np.int64],
+    use_prefix: bool,
+) -> GainArray:
+    """Count the unknown cells of each candidate's disk, row segment by row segment.
+
+    A segment is counted directly (cheap for few candidates) or, with
+    ``use_prefix``, from per-row prefix sums built in one pass over the grid first
+    (then O(radius) per candidate).
+    """
+    height, width = belief.shape
+    if use_prefix:
+        prefix = _unknown_prefix_sums(belief, exclude, use_exclude)
+    else:
+        prefix = np.empty((0, 0), dtype=np.int32)
     reach = (half_widths.shape[0] - 1) // 2
     gains = np.zeros(candidates.shape[0], dtype=np.int64)
     for k in range(candidates.shape[0]):
@@ -105,7 +92,17 @@ def _gain_prefix_kernel(
             if r < 0 or r >= height:
                 continue
             half = half_widths[d_row + reach]
-            count += prefix[r, min(width, col + half + 1)] - prefix[r, max(0, col - half)]
+            first = max(0, col - half)
+            end = min(width, col + half + 1)
+            if use_prefix:
+                count += prefix[r, end] - prefix[r, first]
+            # Branch-free sums: beliefs mix values at random, branches mispredict.
+            elif use_exclude:
+                for c in range(first, end):
+                    count += (belief[r, c] == UNKNOWN) & (not exclude[r, c])
+            else:
+                for c in range(first, end):
+                    count += belief[r, c] == UNKNOWN
         gains[k] = count
     return gains
 
@@ -222,8 +219,7 @@ def information_gain(
     # scatter over the map); prefix sums cost about 0.7 ns per grid cell plus
     # O(radius) per candidate. Measured crossover: K * disk_cells ~ H * W / 2.
     use_prefix = 2 * cells.shape[0] * disk_cells > height * width
-    kernel = _gain_prefix_kernel if use_prefix else _gain_direct_kernel
-    return kernel(grid, exclude_grid, use_exclude, cells, half_widths)
+    return _gain_disk_kernel(grid, exclude_grid, use_exclude, cells, half_widths, use_prefix)
 
 
 def filter_by_gain(

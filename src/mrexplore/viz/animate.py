@@ -59,6 +59,7 @@ from mrexplore.viz.render import (
     _robot_side,
     _Trace,
     frame_ticks,
+    write_indexed_gif,
 )
 
 #: Default number of frames of an animation (evenly spread over the run).
@@ -429,28 +430,8 @@ def save_animation(
 def _write_gif(
     out: Path, animator: RunAnimator, ticks: npt.NDArray[np.intp], fps: int, hold_last_ms: int
 ) -> Path:
-    from PIL import Image
-
-    palette_bytes = PALETTE.tobytes()
-    frames = []
-    for tick in ticks:
-        indices = np.ascontiguousarray(animator.frame_indices(int(tick)))
-        frame = Image.frombytes("P", (indices.shape[1], indices.shape[0]), indices.tobytes())
-        frame.putpalette(palette_bytes)
-        frames.append(frame)
-    frame_ms = max(20, round(1000 / fps))  # browsers slow down GIF delays under 20 ms
-    durations = [frame_ms] * len(frames)
-    durations[-1] = max(frame_ms, hold_last_ms)
-    frames[0].save(
-        out,
-        format="GIF",
-        save_all=True,
-        append_images=frames[1:],
-        duration=durations,
-        loop=0,
-        optimize=True,
-    )
-    return out
+    frames = (animator.frame_indices(int(tick)) for tick in ticks)
+    return write_indexed_gif(out, frames, fps, hold_last_ms)
 
 
 def _write_mp4(

@@ -157,13 +157,10 @@ def _hue_styles(hue: str, levels: Sequence[Any]) -> dict[Any, tuple[str, str]]:
 
 
 def _text(value: Any) -> str:
-    if isinstance(value, float):
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        if value.is_integer():
-            return str(int(value))
-        return f"{value:g}"
-    return "-" if value is None else str(value)
+    """A level as text, as the sweep summaries write it (imported here: pyarrow, scipy)."""
+    from mrexplore.experiments.stats import format_value
+
+    return format_value(value)
 
 
 def _order(values: Sequence[Any]) -> list[Any]:

@@ -37,7 +37,7 @@ from __future__ import annotations
 import math
 import os
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -469,8 +469,6 @@ def save_gif(
     Returns:
         The path written, as a :class:`~pathlib.Path`.
     """
-    from PIL import Image
-
     if fps < 1:
         raise MrexploreInputError(f"fps must be >= 1, got {fps}")
     if trail is not None and trail < 0:
@@ -479,23 +477,36 @@ def save_gif(
     pixels, stride = _geometry(trace.occupied.shape, scale)
     ticks = frame_ticks(trace.last_tick, max_frames)
 
-    palette_bytes = _PALETTE.tobytes()
-    frames: list[Image.Image] = []
-    for tick in ticks:
-        indices = np.ascontiguousarray(_frame_indices(trace, int(tick), trail, pixels, stride))
-        frame = Image.frombytes("P", (indices.shape[1], indices.shape[0]), indices.tobytes())
-        frame.putpalette(palette_bytes)
-        frames.append(frame)
+    frames = (_frame_indices(trace, int(tick), trail, pixels, stride) for tick in ticks)
+    return write_indexed_gif(Path(path), frames, fps, hold_last_ms)
 
+
+def write_indexed_gif(out: Path, frames: Iterable[UInt8Array], fps: int, hold_last_ms: int) -> Path:
+    """Write frames of indices into the shared palette as a looping GIF; returns ``out``.
+
+    The GIF writer of :func:`save_gif` and :func:`mrexplore.viz.animate.save_animation`:
+    every frame ``1000 / fps`` ms (at least 20 ms, as browsers slow shorter delays
+    down), the last held ``hold_last_ms`` (at least one frame time).
+    """
+    from PIL import Image
+
+    palette_bytes = _PALETTE.tobytes()
+    images: list[Image.Image] = []
+    for indices in frames:
+        contiguous = np.ascontiguousarray(indices)
+        image = Image.frombytes(
+            "P", (contiguous.shape[1], contiguous.shape[0]), contiguous.tobytes()
+        )
+        image.putpalette(palette_bytes)
+        images.append(image)
     frame_ms = max(20, round(1000 / fps))  # browsers slow down GIF delays under 20 ms
-    durations = [frame_ms] * len(frames)
+    durations = [frame_ms] * len(images)
     durations[-1] = max(frame_ms, hold_last_ms)
-    out = Path(path)
-    frames[0].save(
+    images[0].save(
         out,
         format="GIF",
         save_all=True,
-        append_images=frames[1:],
+        append_images=images[1:],
         duration=durations,
         loop=0,
         optimize=True,
