@@ -67,6 +67,22 @@ def _add_number(
     group.add_argument(flag, type=convert(flag), help=help_text, **options)
 
 
+def _add_engine_options(command: argparse.ArgumentParser) -> None:
+    """Where the runs of ``sweep`` and ``reproduce`` go: ``--engine``, ``--workers``,
+    ``--address``."""
+    command.add_argument(
+        "--engine",
+        default="local",
+        help="local process pool | ray | dask (extras) (default: local)",
+    )
+    command.add_argument(
+        "--workers",
+        type=_positive_int("--workers"),
+        help="worker processes (default: the machine's cores)",
+    )
+    command.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mrexplore", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"mrexplore {__version__}")
@@ -266,17 +282,7 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = sub.add_parser("sweep", help="run a sweep file into a results folder")
     sweep.add_argument("file", help="sweep file (TOML: [sweep] seeds, [fixed], [grid])")
     sweep.add_argument("--out", required=True, help="results folder (Parquet files)")
-    sweep.add_argument(
-        "--engine",
-        default="local",
-        help="local process pool | ray | dask (extras) (default: local)",
-    )
-    sweep.add_argument(
-        "--workers",
-        type=_positive_int("--workers"),
-        help="worker processes (default: the machine's cores)",
-    )
-    sweep.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
+    _add_engine_options(sweep)
     sweep.add_argument("--resume", action="store_true", help="run only the runs missing from --out")
     sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
     sweep.add_argument("--dry-run", action="store_true", help="list the runs, run nothing")
@@ -331,17 +337,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="reduced version, about a minute or less (default: the paper's settings, "
         "minutes to an hour)",
     )
-    reproduce.add_argument(
-        "--engine",
-        default="local",
-        help="local process pool | ray | dask (extras) (default: local)",
-    )
-    reproduce.add_argument(
-        "--workers",
-        type=_positive_int("--workers"),
-        help="worker processes (default: the machine's cores)",
-    )
-    reproduce.add_argument("--address", help="Ray or Dask cluster to join (default: start one)")
+    _add_engine_options(reproduce)
     reproduce.add_argument(
         "--interpretations",
         default="all",
@@ -658,11 +654,28 @@ def cmd_maps(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_sweep(args: argparse.Namespace) -> int:
-    from mrexplore.experiments import ENGINES, EngineError, load_sweep, run_sweep
+def _engine_options(args: argparse.Namespace) -> dict[str, Any]:
+    """What :func:`_add_engine_options` (and ``--no-progress``) ask of the runner."""
+    _check_engine(args.engine)
+    return {
+        "engine": args.engine,
+        "workers": args.workers,
+        "address": args.address,
+        "progress": not args.no_progress,
+    }
 
-    if args.engine not in ENGINES:
-        raise EngineError(f"--engine {args.engine}: choose one of {', '.join(ENGINES)}")
+
+def _check_engine(engine: str) -> None:
+    from mrexplore.experiments import ENGINES, EngineError
+
+    if engine not in ENGINES:
+        raise EngineError(f"--engine {engine}: choose one of {', '.join(ENGINES)}")
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from mrexplore.experiments import load_sweep, run_sweep
+
+    _check_engine(args.engine)
     sweep = load_sweep(args.file)
     if args.dry_run:
         for spec in sweep.runs():
@@ -675,15 +688,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         return 0
     _check_out_dir(args.out)
     try:
-        summary = run_sweep(
-            sweep,
-            args.out,
-            engine=args.engine,
-            workers=args.workers,
-            address=args.address,
-            resume=args.resume,
-            progress=not args.no_progress,
-        )
+        summary = run_sweep(sweep, args.out, resume=args.resume, **_engine_options(args))
     except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: say what is kept
         from mrexplore.experiments import Store
 
@@ -735,22 +740,17 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
-    from mrexplore.experiments import ENGINES, EngineError
     from mrexplore.experiments.reproduce import get_reproduction, reproduce
 
-    if args.engine not in ENGINES:
-        raise EngineError(f"--engine {args.engine}: choose one of {', '.join(ENGINES)}")
+    _check_engine(args.engine)
     reproduction = get_reproduction(args.paper)
     _check_out_dir(args.out)
     report = reproduce(
         reproduction,
         args.out,
         quick=args.quick,
-        engine=args.engine,
-        workers=args.workers,
-        address=args.address,
-        progress=not args.no_progress,
         interpretations=args.interpretations,
+        **_engine_options(args),
     )
     print(f"report: {report}")
     return 0
