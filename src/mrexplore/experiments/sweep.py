@@ -36,7 +36,7 @@ import itertools
 import json
 import math
 import tomllib
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
@@ -307,21 +307,6 @@ def _grid_lists(grid: Mapping[str, Any]) -> Iterator[tuple[str, Any]]:
             yield from ((f"{key}.{k}", v) for k, v in value.items())
         else:
             yield key, value
-
-
-def grid_columns(sweep: Sweep) -> Sequence[str]:
-    """Column names of the settings the grid varies (``param_w3`` for ``set.w3``)."""
-    return [column_name(key) for key, _ in sweep.axes()]
-
-
-def column_name(key: str) -> str:
-    """The results-table column of a sweep key: ``set.w3`` -> ``param_w3``,
-    ``share.epsilon`` -> ``share_epsilon``, others unchanged."""
-    if key.startswith("set."):
-        return "param_" + key[4:]
-    if key.startswith("share."):
-        return "share_" + key[6:]
-    return key
 
 
 # ------------------------------------------------------- resuming and sweep.toml
