@@ -452,14 +452,11 @@ def _check_out_dir(out: str, *, run: bool = False, force: bool = False) -> None:
 def cmd_run(args: argparse.Namespace) -> int:
     import json
 
-    from mrexplore.comm.sharing import make_sharing
     from mrexplore.rundir import save_run
     from mrexplore.sim.engine import Simulation
 
     scenario = _scenario_from_args(args)
-    scenario.validate()
-    if scenario.sharing is not None:
-        make_sharing(scenario.sharing, **scenario.sharing_params)  # bad id -> input error now
+    scenario.check()  # bad input is reported before the output folder is looked at
     if args.out:
         _check_out_dir(args.out)
     _check_ffmpeg(args.mp4)

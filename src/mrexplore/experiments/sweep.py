@@ -41,9 +41,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mrexplore.errors import MapFileError, MrexploreInputError
+from mrexplore.errors import MrexploreInputError
 from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
-from mrexplore.sim.world import resolve_map
 
 
 class SweepError(MrexploreInputError):
@@ -135,27 +134,10 @@ class Sweep:
         try:
             converted = {key: _convert(key, value) for key, value in settings.items()}
             scenario = Scenario(seed=seed, params=params, sharing_params=share, **converted)
-            validate_scenario(scenario)
+            scenario.check()
         except MrexploreInputError as error:
             raise SweepError(f"{self.source}: run {label}: {error}") from None
         return scenario
-
-
-def validate_scenario(scenario: Scenario) -> None:
-    """Everything that can be checked without running: fields, the map exists,
-    strategy and its parameters, sharing mechanism and its parameters. (Map file
-    contents and start cells are checked by the run itself: a bad one makes that
-    run ``failed``.)"""
-    from mrexplore.comm.sharing import make_sharing
-    from mrexplore.strategies.registry import get_strategy, make_strategy
-
-    scenario.validate()
-    map_path = resolve_map(scenario.map)
-    if map_path is not None and not map_path.is_file():
-        raise MapFileError(map_path, "not a map file")
-    make_strategy(scenario.strategy, 0, scenario.robots, dict(scenario.params))
-    sharing = scenario.sharing or get_strategy(scenario.strategy).default_sharing
-    make_sharing(sharing, **scenario.sharing_params)
 
 
 #: Scenario fields added after runs were first stored, with their defaults: at the

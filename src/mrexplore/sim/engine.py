@@ -45,7 +45,7 @@ from mrexplore.sim.motion import Motion
 from mrexplore.sim.record import BELIEF_CELLS_AUTO, RunRecord
 from mrexplore.sim.recorder import Recorder
 from mrexplore.sim.roster import Robot, Roster
-from mrexplore.sim.scenario import Scenario
+from mrexplore.sim.scenario import Scenario, is_unlimited
 from mrexplore.sim.sensing import Sensing
 from mrexplore.sim.stamps import make_belief_stamps
 from mrexplore.sim.world import World, build_world, cells_from_length
@@ -65,8 +65,7 @@ class Simulation:
         run record (``None``: only when robots x cells <= ``BELIEF_CELLS_AUTO``);
         it changes nothing else in the run.
         """
-        scenario.validate()
-        get_strategy(scenario.strategy)  # fail early on an unknown id
+        scenario.check()
         self.scenario = scenario
         self.streams = make_streams(scenario.seed, scenario.robots)
         self.world: World = build_world(
@@ -82,7 +81,7 @@ class Simulation:
         ]
         comm_range = (
             math.inf
-            if isinstance(scenario.comm_range, float) and math.isinf(scenario.comm_range)
+            if is_unlimited(scenario.comm_range)
             else cells_from_length(scenario.comm_range, self.world.grid, "--comm-range")
         )
         self.comm_range_cells = comm_range
