@@ -3,6 +3,9 @@ assembled into a :class:`~mrexplore.sim.record.RunRecord` when the run ends."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Generic, TypeVar
+
 import numpy as np
 import numpy.typing as npt
 
@@ -16,6 +19,26 @@ from mrexplore.sim.sensing import Sensing
 from mrexplore.sim.stamps import BeliefStamps
 from mrexplore.sim.world import World
 from mrexplore.trace import component_labels, pack_links
+
+Key = TypeVar("Key")
+
+
+class _ChangeLog(Generic[Key]):
+    """A per-tick log of an array computed from a key that seldom changes (the
+    sub-networks, the links): an unchanged key repeats the previous entry (copied
+    when the log is stacked) instead of computing it again."""
+
+    def __init__(self, compute: Callable[[Key], npt.NDArray[np.generic]]) -> None:
+        self._compute = compute
+        self._last: tuple[Key] | None = None
+        self.entries: list[npt.NDArray[np.generic]] = []
+
+    def append(self, key: Key) -> None:
+        if self._last is not None and key == self._last[0]:
+            self.entries.append(self.entries[-1])
+        else:
+            self.entries.append(self._compute(key))
+            self._last = (key,)
 
 
 class Recorder:
@@ -48,31 +71,18 @@ class Recorder:
         self._distance: list[npt.NDArray[np.float64]] = []
         self._goals: list[npt.NDArray[np.int32]] = []
         self._known: list[int] = []
-        # Most ticks change no link: an unchanged tick repeats the previous entry
-        # (stacked, so copied, at the end).
-        self._components: list[npt.NDArray[np.int16]] = []
-        self._last_subnetworks: list[frozenset[int]] | None = None
-        self._link_bits: list[npt.NDArray[np.uint8]] = []
-        self._last_links: Links | None = None
+        n_robots = len(self.robots)
+        self._components: _ChangeLog[list[frozenset[int]]] = _ChangeLog(
+            lambda groups: component_labels(groups, n_robots)
+        )
+        self._link_bits: _ChangeLog[Links] = _ChangeLog(lambda links: pack_links(links, n_robots))
 
     def record(self, tick: int) -> None:
         """Log the end of ``tick``: sub-networks, links, the robots' own knowledge,
         positions, liveness, distances, goals and the team's knowledge."""
         robots = self.robots
-        n_robots = len(robots)
-        network = self.comms.network
-        subnetworks = network.subnetworks()
-        if self._last_subnetworks is not None and subnetworks == self._last_subnetworks:
-            self._components.append(self._components[-1])
-        else:
-            self._components.append(component_labels(subnetworks, n_robots))
-            self._last_subnetworks = subnetworks
-        links = network.links()
-        if self._last_links is not None and links == self._last_links:
-            self._link_bits.append(self._link_bits[-1])
-        else:
-            self._link_bits.append(pack_links(links, n_robots))
-            self._last_links = links
+        self._components.append(self.comms.network.subnetworks())
+        self._link_bits.append(self.comms.network.links())
         self.stamps.record(robots, tick)
         self._positions.append(np.array([r.position for r in robots], dtype=np.int32))
         self._alive.append(np.array([r.alive for r in robots], dtype=bool))
@@ -120,7 +130,7 @@ class Recorder:
             sharing_metrics=self.comms.sharing.metrics(),
             sharing=self.comms.sharing_id,
             max_ticks=self.end.max_ticks,
-            component=np.stack(self._components),
-            link_bits=np.stack(self._link_bits),
+            component=np.stack(self._components.entries),
+            link_bits=np.stack(self._link_bits.entries),
             robot_first_known=self.stamps.robot_first_known,
         )
