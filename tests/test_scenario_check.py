@@ -50,8 +50,6 @@ BAD_FIELDS: list[tuple[dict[str, Any], str]] = [
     ({"sensing": "never"}, "--sensing never"),
     ({"start": "apart"}, "--start apart"),
     ({"start": [(1, 2, 3)] * 4}, "--start"),
-    ({"start": [(5, 5)] * 3}, "--start: 3 cells given for 4 robots"),
-    ({"start": [(5, 5), (5, 6), (6, 5), (5, 5)]}, "--start: two robots cannot start"),
     ({"sensor_range": [3]}, "--sensor-range [3]"),
     ({"sensor_range": 0}, "--sensor-range 0"),
     ({"comm_range": "far"}, "--comm-range 'far'"),

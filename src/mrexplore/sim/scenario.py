@@ -121,9 +121,9 @@ class Scenario:
         mechanism and its parameters.
 
         The simulator, the CLI and sweeps call this, so one place defines what a
-        valid scenario is. What needs the map (its file's contents, start cells
-        inside it, ranges in metres, the memory the run needs) is checked when the
-        world is built (:func:`mrexplore.sim.world.build_world`).
+        valid scenario is. What needs the map (its file's contents, the start cells,
+        ranges in metres, the memory the run needs) is checked when the world is
+        built (:func:`mrexplore.sim.world.build_world`).
 
         Raises:
             ScenarioError: a field is out of range or of the wrong type; the message
@@ -250,10 +250,9 @@ class Scenario:
             raise ScenarioError(
                 f"--start {start!r}: expected together, separate or a list of (row, col)"
             )
-        if len(start) != self.robots:
-            raise ScenarioError(f"--start: {len(start)} cells given for {self.robots} robots")
-        if len({(int(cell[0]), int(cell[1])) for cell in start}) != len(start):
-            raise ScenarioError("--start: two robots cannot start in the same cell")
+        # The cells themselves (one per robot, distinct, free, inside the map) are
+        # checked with the map (world.choose_starts): in a sweep a bad one makes that
+        # run failed rather than the sweep refused.
 
     def _check_failures(self) -> None:
         if not isinstance(self.fail, Sequence) or not all(
