@@ -19,6 +19,8 @@ import pytest
 import mrexplore
 import mrexplore.sim.record as record_module
 import mrexplore.trace as trace_module
+from mrexplore.cli import main
+from mrexplore.rundir import RunDirError
 from mrexplore.sim import Scenario, simulate
 
 SRC = Path(mrexplore.__file__).resolve().parent
@@ -72,6 +74,8 @@ def drawing():
 
 import mrexplore.sim
 after_import = drawing()
+from mrexplore.cli import main
+from mrexplore.rundir import RunDirError
 from mrexplore.sim import Scenario, simulate
 record = simulate(Scenario(map="office", size=(24, 24), robots=2, seed=1, max_ticks=15))
 written = record.save(Path({str(tmp_path)!r}) / "run")
@@ -129,3 +133,42 @@ def test_save_run_and_run_write_data_and_pictures(tmp_path: Path) -> None:
         "trace.npz",
     ]
     assert result["status"] == json.loads((tmp_path / "api" / "result.json").read_text())["status"]
+
+
+def test_the_cli_runs_through_mrexplore_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    calls: list[dict[str, object]] = []
+    real_run = mrexplore.run
+
+    def spy(scenario: object, out_dir: str | None = None, **options: object) -> dict[str, object]:
+        calls.append({"out_dir": out_dir, **options})
+        return real_run(scenario, out_dir, **options)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(mrexplore, "run", spy)
+    out = tmp_path / "cli"
+    args = ["run", "--map", "sheng40", "--robots", "2", "--max-ticks", "20", "--out", str(out)]
+    assert main([*args, "--gif", "--belief-panels"]) == 0
+    assert calls == [
+        {
+            "out_dir": str(out),
+            "gif": True,
+            "mp4": False,
+            "belief_panels": True,
+            "force": False,
+            "option": "--out",
+        }
+    ]
+    lines = [line.split() for line in capsys.readouterr().out.splitlines()]
+    assert ["gif", str(out / "run.gif")] in lines and ["trace", str(out / "trace.npz")] in lines
+
+
+def test_run_refuses_a_folder_that_holds_a_run_and_keeps_it(tmp_path: Path) -> None:
+    out = tmp_path / "kept"
+    mrexplore.run(SMALL, str(out))
+    before = (out / "result.json").read_bytes()
+    with pytest.raises(RunDirError, match=r"^out_dir .*already holds a run"):
+        mrexplore.run(SMALL, str(out), gif=True)
+    assert (out / "result.json").read_bytes() == before and not (out / "run.gif").exists()
+    mrexplore.run(SMALL, str(out), gif=True, belief_panels=True, force=True)
+    assert (out / "run.gif").exists()

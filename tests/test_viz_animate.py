@@ -182,17 +182,25 @@ def test_mp4_needs_ffmpeg(
         save_animation(tmp_path / "run.mp4", record.trace_arrays())
 
 
-def test_mp4_is_written_when_ffmpeg_is_there(record: RunRecord, tmp_path: Path) -> None:
-    if animate_module.ffmpeg_path() is None:
-        pytest.skip("ffmpeg is not on PATH")
+def test_the_viz_extra_ships_an_encoder_without_a_system_ffmpeg(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("PATH", str(tmp_path))  # no ffmpeg there
+    found = animate_module.ffmpeg_path()
+    assert found is not None and Path(found).is_file()  # imageio-ffmpeg's own binary
+
+
+def test_mp4_is_written(record: RunRecord, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PATH", str(tmp_path))  # the extra's encoder, not a system one
     path = save_animation(tmp_path / "run.mp4", record.trace_arrays(), max_frames=10)
-    assert path.stat().st_size > 1000
+    head = path.read_bytes()[:12]
+    assert head[4:8] == b"ftyp" and path.stat().st_size > 1000  # an MP4 container
 
 
 def test_cli_run_mp4_without_ffmpeg_is_bad_input(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    monkeypatch.setenv("PATH", str(tmp_path))  # no ffmpeg there
+    monkeypatch.setattr(animate_module, "ffmpeg_path", lambda: None)  # no encoder at all
     code = main(["run", "--map", "sheng40", "--robots", "2", "--mp4", "--out", str(tmp_path)])
     assert code == 2
     err = capsys.readouterr().err

@@ -237,7 +237,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="replace the --out folder whole if it is not empty (default: refuse it)",
     )
     run.add_argument("--gif", action="store_true", help="also write run.gif")
-    run.add_argument("--mp4", action="store_true", help="also write run.mp4 (needs ffmpeg)")
+    run.add_argument(
+        "--mp4",
+        action="store_true",
+        help="also write run.mp4 (needs the viz extra or ffmpeg on PATH)",
+    )
     run.add_argument(
         "--belief-panels",
         action="store_true",
@@ -291,7 +295,9 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--out", help="file to write (default: RUN_DIR/replay.html)")
     replay.add_argument("--gif", action="store_true", help="also write RUN_DIR/run.gif")
     replay.add_argument(
-        "--mp4", action="store_true", help="also write RUN_DIR/run.mp4 (needs ffmpeg)"
+        "--mp4",
+        action="store_true",
+        help="also write RUN_DIR/run.mp4 (needs the viz extra or ffmpeg on PATH)",
     )
     replay.add_argument(
         "--belief-panels", action="store_true", help="per-robot belief panels in the GIF/MP4"
@@ -426,57 +432,26 @@ def _fmt(value: Any) -> str:
     return "-" if value is None else str(value)
 
 
-def _check_out_dir(out: str, *, run: bool = False, force: bool = False) -> None:
-    """Refuse an output folder that cannot be written before spending time on a run.
+def _check_out_dir(out: str) -> None:
+    from mrexplore.rundir import check_out_dir
 
-    With ``run`` (``mrexplore run --out``) the folder must also be new or empty
-    unless ``force`` (:func:`mrexplore.rundir.check_run_dir`).
-    """
-    import os
-    from pathlib import Path
-
-    path = Path(out)
-    if path.exists() and not path.is_dir():
-        raise ScenarioError(f"--out {out}: exists and is not a folder")
-    parent = path if path.exists() else next((p for p in path.parents if p.exists()), Path("."))
-    if not parent.is_dir():
-        raise ScenarioError(f"--out {out}: {parent} is a file, not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise ScenarioError(f"--out {out}: folder {parent} is not writable")
-    if run:
-        from mrexplore.rundir import check_run_dir
-
-        check_run_dir(out, force=force)
+    check_out_dir(out, option="--out")
 
 
 def cmd_run(args: argparse.Namespace) -> int:
     import json
 
-    from mrexplore.rundir import save_run
-    from mrexplore.sim.engine import Simulation
+    import mrexplore
 
-    scenario = _scenario_from_args(args)
-    scenario.check()  # bad input is reported before the output folder is looked at
-    if args.out:
-        _check_out_dir(args.out)
-    _check_ffmpeg(args.mp4)
-    simulation = Simulation(scenario, record_beliefs=True if args.belief_panels else None)
-    if args.out:  # after the map and start cells are known good: their errors come first
-        _check_out_dir(args.out, run=True, force=args.force)
-    record = simulation.run()
-    written = (
-        save_run(  # data, then pictures
-            record,
-            args.out,
-            gif=args.gif,
-            mp4=args.mp4,
-            belief_panels=args.belief_panels,
-            replace=True,  # written aside, then swapped in whole
-        )
-        if args.out
-        else {}
+    result = mrexplore.run(
+        _scenario_from_args(args),
+        args.out,
+        gif=args.gif,
+        mp4=args.mp4,
+        belief_panels=args.belief_panels,
+        force=args.force,
+        option="--out",
     )
-    result = record.result()
     if args.json:
         print(json.dumps(result, indent=2))
         return 0
@@ -493,18 +468,34 @@ def cmd_run(args: argparse.Namespace) -> int:
         ("bytes sent", result["bytes_total"]),
         ("wall time", f"{result['wall_time_s']:.2f} s"),
     ]
-    rows += [(name, str(path)) for name, path in written.items()]
+    if args.out:
+        from pathlib import Path
+
+        from mrexplore.rundir import run_files
+
+        rows += [
+            (_RUN_FILE_KINDS.get(name, name), str(Path(args.out) / name))
+            for name in run_files(args.out)
+        ]
     width = max(len(name) for name, _ in rows)
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
     return 0
 
 
-def _check_ffmpeg(mp4: bool) -> None:
-    from mrexplore.viz import ffmpeg_path
+_RUN_FILE_KINDS = {
+    "result.json": "result",
+    "trace.npz": "trace",
+    "final.png": "final",
+    "run.gif": "gif",
+    "run.mp4": "mp4",
+}
 
-    if mp4 and ffmpeg_path() is None:
-        raise MrexploreInputError("--mp4 needs ffmpeg on PATH (e.g. apt-get install ffmpeg)")
+
+def _check_ffmpeg(mp4: bool) -> None:
+    from mrexplore.rundir import check_ffmpeg
+
+    check_ffmpeg(mp4)
 
 
 def cmd_replay(args: argparse.Namespace) -> int:

@@ -56,6 +56,30 @@ def _listing(names: list[str], limit: int = 4) -> str:
     return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
 
 
+def check_out_dir(out: str | Path, *, option: str = "out_dir") -> None:
+    """Raise :class:`RunDirError` unless ``out`` is, or can become, a writable folder.
+
+    Checked before time is spent on a run; ``option`` names ``out`` in the message.
+    """
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise RunDirError(f"{option} {out}: exists and is not a folder")
+    parent = path if path.exists() else next((p for p in path.parents if p.exists()), Path("."))
+    if not parent.is_dir():
+        raise RunDirError(f"{option} {out}: {parent} is a file, not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise RunDirError(f"{option} {out}: folder {parent} is not writable")
+
+
+def check_ffmpeg(mp4: bool) -> None:
+    """Raise :class:`~mrexplore.errors.MrexploreInputError` if an MP4 is wanted but no
+    encoder is found (:func:`mrexplore.viz.ffmpeg_path`)."""
+    from mrexplore.viz.animate import FFMPEG_MISSING, ffmpeg_path
+
+    if mp4 and ffmpeg_path() is None:
+        raise MrexploreInputError(FFMPEG_MISSING)
+
+
 def check_run_dir(out: str | Path, *, force: bool = False, option: str = "--out") -> None:
     """Raise :class:`RunDirError` unless a run may be written to ``out``.
 
@@ -178,7 +202,7 @@ def save_run(
     <mrexplore.sim.RunRecord.save>`, then the pictures. The animations are those of
     :func:`mrexplore.viz.save_animation` (links, targets, header; one panel per
     robot's own belief with ``belief_panels``, which needs ``robot_first_known``);
-    ``max_frames`` defaults to 300. An MP4 needs ``ffmpeg`` on ``PATH``.
+    ``max_frames`` defaults to 300. An MP4 needs an ffmpeg (:func:`mrexplore.viz.ffmpeg_path`).
 
     ``replace`` as in :meth:`RunRecord.save <mrexplore.sim.RunRecord.save>`: data and
     pictures are written into a staging folder that then replaces ``out_dir`` whole.

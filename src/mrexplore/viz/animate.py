@@ -21,7 +21,8 @@ links, targets and belief panels appear only when the trace has ``link_bits`` an
 the robot knew, coloured by ground truth.
 
 Frames are palette images (the palette of :mod:`mrexplore.viz.render`), so a GIF
-is written exactly, without quantization. An MP4 needs ``ffmpeg`` on ``PATH``.
+is written exactly, without quantization. An MP4 needs an ffmpeg binary: the one
+``imageio-ffmpeg`` ships (``pip install 'mrexplore[viz]'``) or ``ffmpeg`` on ``PATH``.
 """
 
 from __future__ import annotations
@@ -74,9 +75,26 @@ _PANEL_ROBOT_PX = 5
 _LINK_PX = 2
 
 
+FFMPEG_MISSING = (
+    "an MP4 needs an ffmpeg encoder: pip install 'mrexplore[viz]' (imageio-ffmpeg, which "
+    "ships one), or put ffmpeg on PATH"
+)
+
+
 def ffmpeg_path() -> str | None:
-    """The ``ffmpeg`` program on ``PATH``, or ``None``."""
-    return shutil.which("ffmpeg")
+    """The ``ffmpeg`` program to encode MP4s with, or ``None`` if there is none.
+
+    The binary that ``imageio-ffmpeg`` ships (the ``viz`` extra) comes first: the same
+    encoder, with H.264, on every machine. Without it, ``ffmpeg`` on ``PATH``.
+    """
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return shutil.which("ffmpeg")
+    try:
+        return str(imageio_ffmpeg.get_ffmpeg_exe())
+    except RuntimeError:  # the package is there but its binary is not (e.g. an sdist build)
+        return shutil.which("ffmpeg")
 
 
 def _font(size: int) -> Any:
@@ -389,7 +407,7 @@ def save_animation(
     The GIF loops forever and holds its last frame ``hold_last_ms``.
 
     Raises:
-        MrexploreInputError: bad arguments, or an MP4 without ``ffmpeg`` on ``PATH``.
+        MrexploreInputError: bad arguments, or an MP4 without an ffmpeg (:func:`ffmpeg_path`).
 
     Returns:
         The path written, as a :class:`~pathlib.Path`.
@@ -400,7 +418,7 @@ def save_animation(
     mp4 = out.suffix.lower() == ".mp4"
     ffmpeg = ffmpeg_path() if mp4 else None
     if mp4 and ffmpeg is None:
-        raise MrexploreInputError("an MP4 needs ffmpeg on PATH (e.g. apt-get install ffmpeg)")
+        raise MrexploreInputError(FFMPEG_MISSING)
     animator = RunAnimator(trace, **options)
     ticks = frame_ticks(animator.last_tick, max_frames)
     if ffmpeg is not None:
