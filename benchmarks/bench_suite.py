@@ -7,7 +7,7 @@ Per scenario (median of ``--repeat`` runs, each in a fresh process so that peak
 memory is its own): wall time per run, ticks, decisions (decide calls: one per live
 robot per tick), plans (decide calls that changed a robot's goal or idled it),
 searching robots (decide calls that computed at least one distance field, counted by
-:func:`mrexplore.planning.distance.fields_computed`), time per decision, peak
+:class:`mrexplore.planning.distance.FieldCounter`), time per decision, peak
 resident memory, and the floor ratio
 
     floor ratio = decide seconds / (t_field x searching robots)

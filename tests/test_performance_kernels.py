@@ -13,7 +13,7 @@ from mrexplore.comm.sharing import CellUpdates, merge_many
 from mrexplore.errors import StrategyError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import distance_field, extract_path, frontier_mask
-from mrexplore.planning.distance import fields_computed
+from mrexplore.planning.distance import FieldCounter
 from mrexplore.planning.frontier_search import nearest_frontier
 from mrexplore.planning.visibility import _build_ray_table, ray_table
 from mrexplore.sim.engine import check_path
@@ -70,9 +70,11 @@ def test_nearest_frontier_equals_field_then_argmin(belief: npt.NDArray[np.int8],
 def test_nearest_frontier_counts_one_field() -> None:
     belief = np.full((5, 5), FREE, dtype=np.int8)
     belief[:, 4] = UNKNOWN
-    before = fields_computed()
-    nearest_frontier(belief, (2, 0))
-    assert fields_computed() == before + 1
+    counter = FieldCounter()
+    nearest_frontier(belief, (2, 0))  # outside the counter: not counted
+    with counter:
+        nearest_frontier(belief, (2, 0))
+    assert counter.count == 1
 
 
 @settings(max_examples=200, deadline=None)

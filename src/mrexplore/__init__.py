@@ -61,13 +61,10 @@ def run(
     aside and swapped in whole. ``option`` names ``out_dir`` in error messages (the CLI
     passes ``--out``).
     """
-    from mrexplore.comm.sharing import make_sharing
     from mrexplore.rundir import check_ffmpeg, check_out_dir, check_run_dir, save_run
     from mrexplore.sim.engine import Simulation
 
-    scenario.validate()
-    if scenario.sharing is not None:
-        make_sharing(scenario.sharing, **scenario.sharing_params)  # a bad id: refused now
+    scenario.check()  # fields, map, strategy, sharing and their parameters
     if out_dir is not None:
         check_out_dir(out_dir, option=option)
         check_ffmpeg(mp4)

@@ -36,14 +36,13 @@ import itertools
 import json
 import math
 import tomllib
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mrexplore.errors import MapFileError, MrexploreInputError
+from mrexplore.errors import MrexploreInputError
 from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
-from mrexplore.sim.world import resolve_map
 
 
 class SweepError(MrexploreInputError):
@@ -135,27 +134,10 @@ class Sweep:
         try:
             converted = {key: _convert(key, value) for key, value in settings.items()}
             scenario = Scenario(seed=seed, params=params, sharing_params=share, **converted)
-            validate_scenario(scenario)
+            scenario.check()
         except MrexploreInputError as error:
             raise SweepError(f"{self.source}: run {label}: {error}") from None
         return scenario
-
-
-def validate_scenario(scenario: Scenario) -> None:
-    """Everything that can be checked without running: fields, the map exists,
-    strategy and its parameters, sharing mechanism and its parameters. (Map file
-    contents and start cells are checked by the run itself: a bad one makes that
-    run ``failed``.)"""
-    from mrexplore.comm.sharing import make_sharing
-    from mrexplore.strategies.registry import get_strategy, make_strategy
-
-    scenario.validate()
-    map_path = resolve_map(scenario.map)
-    if map_path is not None and not map_path.is_file():
-        raise MapFileError(map_path, "not a map file")
-    make_strategy(scenario.strategy, 0, scenario.robots, dict(scenario.params))
-    sharing = scenario.sharing or get_strategy(scenario.strategy).default_sharing
-    make_sharing(sharing, **scenario.sharing_params)
 
 
 #: Scenario fields added after runs were first stored, with their defaults: at the
@@ -312,21 +294,6 @@ def _grid_lists(grid: Mapping[str, Any]) -> Iterator[tuple[str, Any]]:
             yield from ((f"{key}.{k}", v) for k, v in value.items())
         else:
             yield key, value
-
-
-def grid_columns(sweep: Sweep) -> Sequence[str]:
-    """Column names of the settings the grid varies (``param_w3`` for ``set.w3``)."""
-    return [column_name(key) for key, _ in sweep.axes()]
-
-
-def column_name(key: str) -> str:
-    """The results-table column of a sweep key: ``set.w3`` -> ``param_w3``,
-    ``share.epsilon`` -> ``share_epsilon``, others unchanged."""
-    if key.startswith("set."):
-        return "param_" + key[4:]
-    if key.startswith("share."):
-        return "share_" + key[6:]
-    return key
 
 
 # ------------------------------------------------------- resuming and sweep.toml

@@ -22,6 +22,7 @@ Units: distances are in cells (path length, not ticks).
 
 from __future__ import annotations
 
+import contextvars
 import math
 
 import numba
@@ -34,12 +35,12 @@ from mrexplore.planning._validate import as_bool_grid, as_cell
 
 __all__ = [
     "SQRT2",
+    "FieldCounter",
     "UnreachableTargetError",
     "count_field",
     "distance_field",
     "distance_field_kernel",
     "extract_path",
-    "fields_computed",
     "path_length",
 ]
 
@@ -50,24 +51,50 @@ _SETTLED = np.uint8(4)
 """``state`` value of a settled node; 1..3 mean "last pushed to bucket slot 0..2"."""
 
 
-_fields_computed = [0]
-
-
-def fields_computed() -> int:
-    """How many distance fields (shortest-path searches) this process has computed.
+class FieldCounter:
+    """Counts the distance fields (shortest-path searches) computed while it is active.
 
     Counts every :func:`distance_field`, every
     :func:`~mrexplore.planning.frontier_search.nearest_frontier` search and every
     direct use of :func:`distance_field_kernel` that reports itself with
-    :func:`count_field`. The simulator reads it around each decision to tell the
-    decisions that searched from those that did not (benchmarks' floor ratio).
+    :func:`count_field`, made inside ``with counter:`` (in this thread or task;
+    the innermost active counter counts). Outside every counter nothing is counted.
+    The simulator owns one per run and activates it around each decision, to tell
+    the decisions that searched from those that did not (benchmarks' floor ratio).
+
+    >>> import numpy as np
+    >>> counter = FieldCounter()
+    >>> with counter:
+    ...     _ = distance_field(np.ones((3, 3), dtype=bool), (0, 0))
+    >>> counter.count
+    1
     """
-    return _fields_computed[0]
+
+    __slots__ = ("_tokens", "count")
+
+    def __init__(self) -> None:
+        self.count = 0
+        self._tokens: list[contextvars.Token[FieldCounter | None]] = []
+
+    def __enter__(self) -> FieldCounter:
+        self._tokens.append(_active_counter.set(self))
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        _active_counter.reset(self._tokens.pop())
+
+
+_active_counter: contextvars.ContextVar[FieldCounter | None] = contextvars.ContextVar(
+    "mrexplore_field_counter", default=None
+)
 
 
 def count_field(n: int = 1) -> None:
-    """Add ``n`` to :func:`fields_computed` (for callers of the raw kernel)."""
-    _fields_computed[0] += n
+    """Add ``n`` fields to the active :class:`FieldCounter`, if any (for callers of the
+    raw kernel)."""
+    counter = _active_counter.get()
+    if counter is not None:
+        counter.count += n
 
 
 class UnreachableTargetError(MrexploreError, ValueError):
@@ -332,7 +359,7 @@ def distance_field(
     if not flat[src]:
         flat = flat.copy()
         flat[src] = True
-    _fields_computed[0] += 1
+    count_field()
     dist = np.full(n_cells, np.inf)
     state = np.zeros(n_cells, dtype=np.uint8)
     buckets = np.empty((3, n_cells), dtype=np.int32)

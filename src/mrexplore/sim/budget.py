@@ -8,10 +8,10 @@ temporary arrays of a tick and of the metrics at the end of the run;
 :class:`~mrexplore.errors.ScenarioError` (exit status 2) instead of a
 ``MemoryError`` (or the kernel's OOM killer) minutes into the run.
 
-The byte counts below were read off the allocations in ``sim/engine.py``,
-``sim/record.py``, ``trace.py``, ``comm/*``, ``planning/distance.py``,
-``strategies/*`` and ``metrics/*``, and checked against the peak resident memory of real runs (see
-:func:`estimate_run_bytes`).
+The byte counts below were read off the allocations of the tick loop
+(``sim/engine.py`` and its parts in ``sim/``), ``sim/record.py``, ``trace.py``,
+``comm/*``, ``planning/distance.py``, ``strategies/*`` and ``metrics/*``, and checked
+against the peak resident memory of real runs (see :func:`estimate_run_bytes`).
 """
 
 from __future__ import annotations

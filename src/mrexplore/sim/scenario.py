@@ -11,16 +11,19 @@ from __future__ import annotations
 import math
 import numbers
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from mrexplore.errors import ScenarioError
+import numpy as np
+
+from mrexplore.errors import MapFileError, ScenarioError
 
 Cell = tuple[int, int]
 
 START_MODES = ("together", "separate")
 MAX_ROBOTS = 10_000
-"""Largest team :meth:`Scenario.validate` accepts (every robot holds a belief of the whole
+"""Largest team :meth:`Scenario.check` accepts (every robot holds a belief of the whole
 map; the map's free cells bound the team again when the world is built)."""
 SENSING_MODES = ("moving", "arrival")
 #: What completes a run: the team's union of beliefs reaching ``coverage_threshold``,
@@ -118,10 +121,47 @@ class Scenario:
     idle_ticks: int = 10
     patience: int = 3
 
+    def check(self) -> None:
+        """Check everything that can be checked before a run: every field (type and
+        range), that the map exists, the strategy and its parameters, the sharing
+        mechanism and its parameters.
+
+        The simulator, the CLI and sweeps call this, so one place defines what a
+        valid scenario is. What needs the map (its file's contents, the start cells,
+        ranges in metres, the memory the run needs) is checked when the world is
+        built (:func:`mrexplore.sim.world.build_world`).
+
+        Raises:
+            ScenarioError: a field is out of range or of the wrong type; the message
+                is one line naming the option (``--robots 0: ...``).
+            MapFileError: ``map`` names a map file that is missing or not a file.
+            UnknownIdError: ``map``, ``strategy`` or ``sharing`` is not a known id.
+
+        >>> Scenario(robots=0).check()
+        Traceback (most recent call last):
+        ...
+        mrexplore.errors.ScenarioError: --robots 0: must be an integer in [1, 10000] (team size)
+        """
+        self.check_fields()
+        self._check_ids()
+
     def validate(self) -> None:
-        """Check every field that can be checked without the map."""
+        """The same as :meth:`check` (its earlier name)."""
+        self.check()
+
+    def check_fields(self) -> None:
+        """The part of :meth:`check` that looks at the fields alone (no registry, no
+        file system): what building a world needs."""
         from mrexplore.grid.generators import GENERATORS
 
+        for option, text in (("--map", self.map), ("--strategy", self.strategy)):
+            if not isinstance(text, str) or not text:
+                raise ScenarioError(f"{option} {text!r}: expected a name")
+        if self.sharing is not None and not isinstance(self.sharing, str):
+            raise ScenarioError(f"--sharing {self.sharing!r}: expected a name")
+        for option, table in (("--set", self.params), ("--share", self.sharing_params)):
+            if not isinstance(table, Mapping):
+                raise ScenarioError(f"{option} {table!r}: expected a mapping of KEY=VALUE")
         if not _is_int(self.robots) or not 1 <= self.robots <= MAX_ROBOTS:
             raise ScenarioError(
                 f"--robots {self.robots}: must be an integer in [1, {MAX_ROBOTS}] (team size)"
@@ -133,25 +173,39 @@ class Scenario:
                     "no negative seeds)"
                 )
         generator = self.map in GENERATORS
-        if self.size is not None and not generator:
-            raise ScenarioError(
-                f"--size {self.size[0]}x{self.size[1]}: applies to map generators only; "
-                f"{self.map!r} is a map file, whose size is the file's (--cell-size resamples it)"
-            )
-        if self.cell_size is not None and generator:
-            raise ScenarioError(
-                f"--cell-size {self.cell_size}: applies to map files only; {self.map!r} is a "
-                "generator, sized in cells with --size"
-            )
         if self.size is not None:
+            if not (
+                isinstance(self.size, Sequence)
+                and len(self.size) == 2
+                and all(_is_int(side) for side in self.size)
+            ):
+                raise ScenarioError(f"--size {self.size!r}: expected WIDTHxHEIGHT, e.g. 200x150")
+            if not generator:
+                raise ScenarioError(
+                    f"--size {self.size[0]}x{self.size[1]}: applies to map generators only; "
+                    f"{self.map!r} is a map file, whose size is the file's (--cell-size "
+                    "resamples it)"
+                )
             width, height = self.size
             if width <= 0 or height <= 0:
                 raise ScenarioError(f"--size {width}x{height}: both sides must be positive")
-        if not math.isfinite(self.speed) or self.speed <= 0:
+        if self.cell_size is not None:
+            if generator:
+                raise ScenarioError(
+                    f"--cell-size {self.cell_size}: applies to map files only; {self.map!r} "
+                    "is a generator, sized in cells with --size"
+                )
+            if not (_is_real(self.cell_size) and math.isfinite(self.cell_size)) or not (
+                self.cell_size > 0
+            ):
+                raise ScenarioError(
+                    f"--cell-size {self.cell_size}: must be a finite number > 0 (metres per cell)"
+                )
+        if not (_is_real(self.speed) and math.isfinite(self.speed)) or not self.speed > 0:
             raise ScenarioError(f"--speed {self.speed}: must be a positive number of cells/tick")
-        if self.max_ticks is not None and self.max_ticks <= 0:
-            raise ScenarioError(f"--max-ticks {self.max_ticks}: must be positive")
-        if not 0 < self.coverage_threshold <= 1:
+        if self.max_ticks is not None and not (_is_int(self.max_ticks) and self.max_ticks > 0):
+            raise ScenarioError(f"--max-ticks {self.max_ticks}: must be positive (whole ticks)")
+        if not _is_real(self.coverage_threshold) or not 0 < self.coverage_threshold <= 1:
             raise ScenarioError(
                 f"--coverage-threshold {self.coverage_threshold}: must be in (0, 1]"
             )
@@ -166,30 +220,51 @@ class Scenario:
             )
         if self.sensing not in SENSING_MODES:
             raise ScenarioError(f"--sensing {self.sensing}: choose one of {SENSING_MODES}")
-        if isinstance(self.start, str) and self.start not in START_MODES:
-            raise ScenarioError(
-                f"--start {self.start}: choose together, separate, or cells 'R,C;R,C'"
-            )
-        if self.cell_size is not None and not (
-            math.isfinite(self.cell_size) and self.cell_size > 0
-        ):
-            raise ScenarioError(
-                f"--cell-size {self.cell_size}: must be a finite number > 0 (metres per cell)"
-            )
-        for name in ("patience", "idle_ticks"):
-            if getattr(self, name) <= 0:
-                raise ScenarioError(f"--{name.replace('_', '-')}: must be positive")
+        self._check_start()
+        for name in ("patience", "idle_ticks", "stall_ticks"):
+            value = getattr(self, name)
+            if value is None and name == "stall_ticks":
+                continue  # chosen from the map
+            if not (_is_int(value) and value > 0):
+                raise ScenarioError(
+                    f"--{name.replace('_', '-')} {value}: must be positive (whole ticks)"
+                )
         parse_length(self.sensor_range, "--sensor-range")
-        if not (isinstance(self.comm_range, float) and math.isinf(self.comm_range)):
+        if not is_unlimited(self.comm_range):
             parse_length(self.comm_range, "--comm-range")
-        if not self.bandwidth > 0:
+        if not isinstance(self.comm_los, bool | np.bool_):
+            raise ScenarioError(f"--comm-los {self.comm_los!r}: expected true or false")
+        if not _is_real(self.bandwidth) or not self.bandwidth > 0:
             raise ScenarioError(f"--bandwidth {self.bandwidth}: must be positive (bytes per tick)")
-        if not isinstance(self.latency, int) or self.latency < 1:
+        if not _is_int(self.latency) or self.latency < 1:
             raise ScenarioError(f"--latency {self.latency}: must be a whole number of ticks >= 1")
-        if not 0.0 <= self.loss <= 1.0:
+        if not _is_real(self.loss) or not 0.0 <= self.loss <= 1.0:
             raise ScenarioError(f"--loss {self.loss}: must be a probability in [0, 1]")
-        if not 0.0 <= self.failure_rate <= 1.0:
+        if not _is_real(self.failure_rate) or not 0.0 <= self.failure_rate <= 1.0:
             raise ScenarioError(f"--failure-rate {self.failure_rate}: must be in [0, 1]")
+        self._check_failures()
+
+    def _check_start(self) -> None:
+        start = self.start
+        if isinstance(start, str):
+            if start not in START_MODES:
+                raise ScenarioError(
+                    f"--start {start}: choose together, separate, or cells 'R,C;R,C'"
+                )
+            return
+        if not isinstance(start, Sequence) or not all(_is_pair_of_ints(cell) for cell in start):
+            raise ScenarioError(
+                f"--start {start!r}: expected together, separate or a list of (row, col)"
+            )
+        # The cells themselves (one per robot, distinct, free, inside the map) are
+        # checked with the map (world.choose_starts): in a sweep a bad one makes that
+        # run failed rather than the sweep refused.
+
+    def _check_failures(self) -> None:
+        if not isinstance(self.fail, Sequence) or not all(
+            _is_pair_of_ints(item) for item in self.fail
+        ):
+            raise ScenarioError(f"--fail {self.fail!r}: expected a list of (robot, tick)")
         failing: dict[int, int] = {}
         for robot, tick in self.fail:
             if not 0 <= robot < self.robots:
@@ -205,6 +280,29 @@ class Scenario:
                 )
             failing[robot] = tick
 
+    def _check_ids(self) -> None:
+        """The map exists; the strategy, the comm model, the sharing mechanism and their
+        parameters are known (by building one strategy and one sharing mechanism, the
+        latter only when it has parameters or an unknown id: building one costs more
+        than the other checks)."""
+        from mrexplore.comm.models import COMM_MODELS
+        from mrexplore.comm.sharing import SHARING, make_sharing
+        from mrexplore.sim.world import resolve_map
+        from mrexplore.strategies.registry import get_strategy, make_strategy
+
+        map_path = resolve_map(self.map)
+        if map_path is not None and not map_path.is_file():
+            raise MapFileError(map_path, "not a map file")
+        make_strategy(self.strategy, 0, self.robots, dict(self.params))
+        if not isinstance(self.comm_model, str) or not self.comm_model:
+            raise ScenarioError(f"--comm-model {self.comm_model!r}: expected a name")
+        if not isinstance(self.comm_params, Mapping):
+            raise ScenarioError(f"--comm {self.comm_params!r}: expected a mapping of KEY=VALUE")
+        COMM_MODELS.resolve_params(self.comm_model, self.comm_params, option="--comm")
+        sharing = self.sharing or get_strategy(self.strategy).default_sharing
+        if self.sharing_params or sharing not in SHARING:
+            make_sharing(sharing, **self.sharing_params)
+
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready dict under the CLI's option names."""
         data = asdict(self)
@@ -218,7 +316,30 @@ class Scenario:
 
 def _is_int(value: object) -> bool:
     """Whether ``value`` is an integer, numpy's included (``True`` and ``False`` are not)."""
-    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool | np.bool_)
+
+
+def _is_real(value: object) -> bool:
+    """Whether ``value`` is a real number, numpy's included (not ``True`` / ``False``)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+
+
+def _is_pair_of_ints(value: object) -> bool:
+    return (
+        isinstance(value, Sequence)
+        and not isinstance(value, str)
+        and len(value) == 2
+        and all(_is_int(v) for v in value)
+    )
+
+
+def is_unlimited(length: float | str) -> bool:
+    """Whether a range (``comm_range``) is ``inf``, that is unlimited.
+
+    >>> is_unlimited(math.inf), is_unlimited(1e9), is_unlimited("20m")
+    (True, False, False)
+    """
+    return isinstance(length, float) and math.isinf(length) and length > 0
 
 
 def parse_length(value: float | str, option: str) -> tuple[float, bool]:
@@ -238,8 +359,10 @@ def parse_length(value: float | str, option: str) -> tuple[float, bool]:
             raise ScenarioError(f"{option} {value!r}: expected cells (8) or metres (2.5m)")
         amount, unit = float(match.group(1)), match.group(2)
         in_metres = unit == "m"
-    else:
+    elif _is_real(value):
         amount, in_metres = float(value), False
+    else:
+        raise ScenarioError(f"{option} {value!r}: expected cells (8) or metres (2.5m)")
     if not math.isfinite(amount) or amount <= 0:
         raise ScenarioError(f"{option} {value}: must be positive")
     return amount, in_metres

@@ -23,7 +23,7 @@ from mrexplore.grid.catalogue import CATALOGUE, MAP_SUFFIXES, resolve_map_name, 
 from mrexplore.grid.generators import MAX_GENERATED_SIDE, MIN_GENERATED_SIDE
 from mrexplore.grid.io import resample_to_cell_size
 from mrexplore.sim import budget
-from mrexplore.sim.scenario import Cell, Scenario, parse_length
+from mrexplore.sim.scenario import Cell, Scenario, is_unlimited, parse_length
 
 
 @dataclass(frozen=True)
@@ -157,7 +157,7 @@ def _check_memory(
     if record_beliefs is None:
         record_beliefs = scenario.robots * cells <= BELIEF_CELLS_AUTO
     linked_share = 1.0
-    if not (isinstance(scenario.comm_range, float) and math.isinf(scenario.comm_range)):
+    if not is_unlimited(scenario.comm_range):
         # robots spread evenly: the share of pairs closer than the range
         comm_range = _length_cells(scenario.comm_range, "--comm-range", resolution_m)
         if comm_range is not None:
@@ -332,8 +332,11 @@ def build_world(
 
     ``record_beliefs`` (as :class:`~mrexplore.sim.engine.Simulation` takes it) only
     enters the memory check of :func:`load_scenario_map`.
+
+    Raises the errors of :meth:`Scenario.check_fields`, of the map and of the start
+    cells (:class:`~mrexplore.errors.MrexploreInputError`).
     """
-    scenario.validate()
+    scenario.check_fields()
     grid = load_scenario_map(scenario, record_beliefs=record_beliefs)
     sensor_range = cells_from_length(scenario.sensor_range, grid, "--sensor-range")
     if sensor_range < 1:
