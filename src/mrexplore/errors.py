@@ -48,3 +48,31 @@ class StrategyError(MrexploreError):
 class CommModelError(MrexploreError):
     """A communication model broke its protocol (delivered beyond its sender's
     sub-network, twice, ...)."""
+
+
+class UnreachableTargetError(MrexploreError, ValueError):
+    """A path was asked for to a cell that the distance field did not reach."""
+
+
+class RunDirError(MrexploreInputError):
+    """An output folder cannot be used for a run (without ``--force``)."""
+
+
+class EngineError(MrexploreInputError):
+    """An engine cannot be used: unknown name, missing extra, unreachable cluster."""
+
+
+class SweepError(MrexploreInputError):
+    """A sweep file or sweep option is invalid."""
+
+
+class StoreError(MrexploreInputError):
+    """A results folder is missing, not a store, or a query is invalid."""
+
+
+class RegistryError(MrexploreError):
+    """Registering went wrong: no id, or an id that another object already holds."""
+
+
+class PolygonLimitError(MrexploreError):
+    """A package would need a count beyond its uint16 field."""

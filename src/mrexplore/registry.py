@@ -49,16 +49,12 @@ from dataclasses import dataclass
 from importlib.metadata import entry_points
 from typing import Any, Generic, TypeVar, overload
 
-from mrexplore.errors import MrexploreError, UnknownIdError
+from mrexplore.errors import RegistryError, UnknownIdError
 from mrexplore.params import Param, resolve_params
 
 logger = logging.getLogger(__name__)
 
 T = TypeVar("T")
-
-
-class RegistryError(MrexploreError):
-    """Registering went wrong: no id, or an id that another object already holds."""
 
 
 def default_id(obj: object) -> str:

@@ -30,17 +30,13 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from mrexplore.errors import MrexploreInputError
+from mrexplore.errors import MrexploreInputError, RunDirError
 
 if TYPE_CHECKING:
     from mrexplore.sim.record import RunRecord
 
 RUN_FILES = ("result.json", "trace.npz", "final.png", "run.gif", "run.mp4", "replay.html")
 """Files whose presence makes a folder hold a run."""
-
-
-class RunDirError(MrexploreInputError):
-    """An output folder cannot be used for a run (without ``--force``)."""
 
 
 def run_files(folder: str | Path) -> list[str]:

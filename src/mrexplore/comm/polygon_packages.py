@@ -55,7 +55,7 @@ from mrexplore.comm.bytes import (
     POLYGON_POINT_BYTES,
     SEQ_BYTES,
 )
-from mrexplore.errors import MrexploreError
+from mrexplore.errors import PolygonLimitError
 
 IntArray = npt.NDArray[np.int64]
 
@@ -91,10 +91,6 @@ OBSERVED_LAYER = 0
 """Layer of the polygons bounding the area the sender observed (free or occupied)."""
 OBSTACLE_LAYER = 1
 """Layer of the polygons bounding the occupied cells the sender observed."""
-
-
-class PolygonLimitError(MrexploreError):
-    """A package would need a count beyond its uint16 field."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -43,15 +43,11 @@ from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager, nullcontext
 from typing import Any, TypeVar
 
-from mrexplore.errors import MrexploreInputError
+from mrexplore.errors import EngineError
 from mrexplore.registry import Registry
 
 T = TypeVar("T")
 R = TypeVar("R")
-
-
-class EngineError(MrexploreInputError):
-    """An engine cannot be used: unknown name, missing extra, unreachable cluster."""
 
 
 class WorkerLost(Exception):

@@ -28,7 +28,7 @@ import uuid
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from mrexplore.errors import MrexploreInputError
+from mrexplore.errors import StoreError
 
 if TYPE_CHECKING:
     import duckdb
@@ -39,10 +39,6 @@ if TYPE_CHECKING:
 TABLES = ("runs", "curves")
 COMPACT_AFTER = 256
 """Compact once this many single-run files have accumulated."""
-
-
-class StoreError(MrexploreInputError):
-    """A results folder is missing, not a store, or a query is invalid."""
 
 
 class Store:

@@ -41,13 +41,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mrexplore.errors import MrexploreInputError
+from mrexplore.errors import MrexploreInputError, SweepError
 from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
-
-
-class SweepError(MrexploreInputError):
-    """A sweep file or sweep option is invalid."""
-
 
 SCENARIO_KEYS: tuple[str, ...] = tuple(
     f.name for f in fields(Scenario) if f.name not in ("params", "sharing_params", "seed")

@@ -29,7 +29,7 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.errors import MrexploreError, MrexploreInputError
+from mrexplore.errors import MrexploreInputError, UnreachableTargetError
 from mrexplore.grid.occupancy import BoolGrid
 from mrexplore.planning._validate import as_bool_grid, as_cell
 
@@ -95,10 +95,6 @@ def count_field(n: int = 1) -> None:
     counter = _active_counter.get()
     if counter is not None:
         counter.count += n
-
-
-class UnreachableTargetError(MrexploreError, ValueError):
-    """A path was asked for to a cell that the distance field did not reach."""
 
 
 @numba.njit(cache=True, nogil=True)
