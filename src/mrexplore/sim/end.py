@@ -4,7 +4,8 @@
   explorable cells (``complete_when="team"``), or some robot's own belief holds
   every explorable cell (``complete_when="robot"``);
 - ``stalled``: no progress for ``stall_ticks`` ticks, no robot left to explore, or
-  ``idle_ticks`` ticks with every robot idle and nothing in flight;
+  ``idle_ticks`` ticks with every robot idle (no path, no move, nothing learned by the
+  team that tick) and nothing in flight;
 - ``max_ticks``: the run reached its limit.
 """
 
@@ -73,12 +74,14 @@ class EndCondition:
         self.robot_complete = np.full(len(self.robots), -1, dtype=np.int32)
         self._last_progress_tick = 0
         self._last_known = 0
+        self._last_travelled = 0.0
         self._idle_streak = 0
 
     def start(self) -> str | None:
         """The status at tick 0 (``None``: the run goes on)."""
         self._check_robots_complete(0)
         self._last_progress_tick, self._last_known = 0, self._progress()
+        self._last_travelled = sum(r.distance for r in self.robots)
         self._idle_streak = 0
         if self._complete():
             return "complete"
@@ -92,15 +95,21 @@ class EndCondition:
         if self._complete():
             return "complete"
         progress = self._progress()
-        if progress > self._last_known:
+        learned = progress > self._last_known
+        if learned:
             self._last_known, self._last_progress_tick = progress, tick
         elif tick - self._last_progress_tick >= self.stall_ticks:
             return "stalled"
+        travelled = sum(r.distance for r in self.robots)
+        moved, self._last_travelled = travelled > self._last_travelled, travelled
         waiting = bool(self.roster.wakes)  # dormant robots will start later
         if not any(r.alive for r in self.robots) and not waiting:
             return "stalled"  # nobody left to explore
+        # Idle: no robot has a path, none moved and the team learned nothing this tick,
+        # and nothing is in flight. A robot whose goal is always the next cell has no
+        # path after each move, but it moves and learns: it is not idle.
         all_idle = not waiting and all(r.path is None for r in self.robots if r.alive)
-        idle = all_idle and self.network.in_flight() == 0
+        idle = all_idle and not learned and not moved and self.network.in_flight() == 0
         self._idle_streak = self._idle_streak + 1 if idle else 0
         if self._idle_streak >= self.idle_ticks:
             return "stalled"
