@@ -20,7 +20,7 @@ import mrexplore
 import mrexplore.sim.record as record_module
 import mrexplore.trace as trace_module
 from mrexplore.cli import main
-from mrexplore.rundir import RunDirError
+from mrexplore.rundir import RUN_FILE_KINDS, RunDirError
 from mrexplore.sim import Scenario, simulate
 
 SRC = Path(mrexplore.__file__).resolve().parent
@@ -75,7 +75,7 @@ def drawing():
 import mrexplore.sim
 after_import = drawing()
 from mrexplore.cli import main
-from mrexplore.rundir import RunDirError
+from mrexplore.rundir import RUN_FILE_KINDS, RunDirError
 from mrexplore.sim import Scenario, simulate
 record = simulate(Scenario(map="office", size=(24, 24), robots=2, seed=1, max_ticks=15))
 written = record.save(Path({str(tmp_path)!r}) / "run")
@@ -120,6 +120,7 @@ def test_save_run_and_run_write_data_and_pictures(tmp_path: Path) -> None:
     record = simulate(SMALL)
     written = mrexplore.save_run(record, tmp_path / "both", gif=True)
     assert list(written) == ["result", "trace", "final", "gif"]
+    assert all(RUN_FILE_KINDS[path.name] == kind for kind, path in written.items())
     names = sorted(p.name for p in (tmp_path / "both").iterdir())
     assert names == ["final.png", "result.json", "run.gif", "trace.npz"]
     data = record.save(tmp_path / "data")

@@ -496,25 +496,16 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.out:
         from pathlib import Path
 
-        from mrexplore.rundir import run_files
+        from mrexplore.rundir import RUN_FILE_KINDS, run_files
 
         rows += [
-            (_RUN_FILE_KINDS.get(name, name), str(Path(args.out) / name))
+            (RUN_FILE_KINDS.get(name, name), str(Path(args.out) / name))
             for name in run_files(args.out)
         ]
     width = max(len(name) for name, _ in rows)
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
     return 0
-
-
-_RUN_FILE_KINDS = {
-    "result.json": "result",
-    "trace.npz": "trace",
-    "final.png": "final",
-    "run.gif": "gif",
-    "run.mp4": "mp4",
-}
 
 
 def _check_ffmpeg(mp4: bool) -> None:

@@ -38,6 +38,15 @@ if TYPE_CHECKING:
 RUN_FILES = ("result.json", "trace.npz", "final.png", "run.gif", "run.mp4", "replay.html")
 """Files whose presence makes a folder hold a run."""
 
+RUN_FILE_KINDS = {
+    "result.json": "result",
+    "trace.npz": "trace",
+    "final.png": "final",
+    "run.gif": "gif",
+    "run.mp4": "mp4",
+}
+"""The kind :func:`save_run` returns each file of a run under."""
+
 
 def run_files(folder: str | Path) -> list[str]:
     """The :data:`RUN_FILES` present in ``folder`` (empty if it is not a folder)."""
