@@ -63,7 +63,15 @@ def _wait_gone(marker: str, seconds: float) -> list[int]:
     return left
 
 
-def _start(tmp_path: Path, seeds: int, *extra: str) -> tuple[subprocess.Popen[bytes], Path, str]:
+def _terminal_signals() -> None:
+    """In the child: SIGHUP as a terminal leaves it (default), even when this test
+    runs under ``nohup`` or a CI runner that ignores SIGHUP and would pass that on."""
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+
+
+def _start(
+    tmp_path: Path, seeds: int, *extra: str, hangup: bool = True
+) -> tuple[subprocess.Popen[bytes], Path, str]:
     sweep = tmp_path / "slow.toml"
     sweep.write_text(SLOW.format(seeds=", ".join(str(s) for s in range(1, seeds + 1))))
     out = tmp_path / "results"
@@ -76,8 +84,14 @@ def _start(tmp_path: Path, seeds: int, *extra: str) -> tuple[subprocess.Popen[by
             env={**os.environ, MARK: marker},
             stdout=subprocess.DEVNULL,
             stderr=stderr,
+            preexec_fn=_terminal_signals if hangup else _ignore_hangup,
         )
     return process, out, marker
+
+
+def _ignore_hangup() -> None:
+    """In the child: SIGHUP ignored, as ``nohup`` starts a command."""
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)
 
 
 def _wait_rows(process: subprocess.Popen[bytes], out: Path, rows: int, seconds: float) -> None:
@@ -138,6 +152,7 @@ def _sigterm_case(
     finally:
         if process.poll() is None:
             process.kill()
+            process.wait()
         _cleanup(marker)
     _check_rows_and_resume(tmp_path, out, seeds, kept)
     capsys.readouterr()
@@ -158,6 +173,7 @@ def _sigkill_case(tmp_path: Path, capsys: pytest.CaptureFixture[str], engine: st
     finally:
         if process.poll() is None:
             process.kill()
+            process.wait()
         _cleanup(marker)
     _check_rows_and_resume(tmp_path, out, seeds, kept)
     capsys.readouterr()
@@ -174,6 +190,26 @@ def test_sighup_stops_a_sweep_as_sigterm_does(
 ) -> None:
     """A closed terminal (SIGHUP) used to kill the sweep on the spot."""
     _sigterm_case(tmp_path, capsys, "local", signal.SIGHUP)
+
+
+def test_a_sweep_started_under_nohup_ignores_sighup(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``nohup mrexplore sweep ...`` asks for the sweep to outlive its terminal."""
+    process, out, marker = _start(tmp_path, 6, hangup=False)
+    try:
+        _wait_rows(process, out, 1, 120)
+        process.send_signal(signal.SIGHUP)
+        time.sleep(1.0)
+        assert process.poll() is None, (tmp_path / "stderr.txt").read_text()
+        process.send_signal(signal.SIGTERM)  # now stop it as a user would
+        assert process.wait(timeout=60) == 128 + signal.SIGTERM
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+        _cleanup(marker)
+    capsys.readouterr()
 
 
 def test_sigkill_of_the_main_process_ends_its_workers(
