@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 # The order of these names is part of reproducibility: append, never reorder.
-_STREAMS = ("map", "starts", "comm", "failures", "robots", "start_times")
+_STREAMS = ("map", "starts", "comm", "failures", "robots", "start_times", "sensor", "odometry")
 
 
 @dataclass(frozen=True)
@@ -25,6 +25,10 @@ class Streams:
     failures: np.random.Generator
     robots: tuple[np.random.Generator, ...]
     start_times: np.random.Generator
+    sensor: tuple[np.random.Generator, ...]
+    """Each robot's sensor errors (:mod:`mrexplore.sim.noise`)."""
+    odometry: tuple[np.random.Generator, ...]
+    """Each robot's odometry errors."""
 
 
 def make_streams(seed: int, n_robots: int) -> Streams:
@@ -44,4 +48,6 @@ def make_streams(seed: int, n_robots: int) -> Streams:
         failures=np.random.default_rng(named["failures"]),
         robots=robots,
         start_times=np.random.default_rng(named["start_times"]),
+        sensor=tuple(np.random.default_rng(s) for s in named["sensor"].spawn(n_robots)),
+        odometry=tuple(np.random.default_rng(s) for s in named["odometry"].spawn(n_robots)),
     )

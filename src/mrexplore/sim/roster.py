@@ -21,7 +21,13 @@ from mrexplore.sim.scenario import Cell, Scenario
 
 @dataclass
 class Robot:
-    """Simulator-side state of one robot (the strategy never sees this object)."""
+    """Simulator-side state of one robot (the strategy never sees this object).
+
+    ``position`` is where the robot is (the world's cell); ``believed`` is the cell
+    it believes it is on, which its strategy sees and plans from. They differ only
+    with odometry drift (:mod:`mrexplore.sim.noise`); without it, the motion phase
+    keeps them equal.
+    """
 
     id: int
     position: Cell
@@ -38,6 +44,11 @@ class Robot:
     blocked_ticks: int = 0
     new_cells: int = 0
     inbox: list[Message] = field(default_factory=list)
+    believed: Cell = (-1, -1)
+
+    def __post_init__(self) -> None:
+        if self.believed == (-1, -1):
+            self.believed = self.position
 
     @property
     def travelling(self) -> bool:

@@ -88,6 +88,18 @@ class Scenario:
         idle_ticks: ticks with every robot idle and nothing in flight that end the run
             as ``stalled``.
         patience: ticks a robot waits behind another before it detours or gives up.
+        sensor_noise: probability that one reading of one cell is wrong (a free cell
+            read as occupied, or the reverse); readings are fused into each robot's
+            belief as log-odds (:mod:`mrexplore.sim.noise`). 0 (default): perfect
+            sensing.
+        sensor_params: the sensor model's details (``--sensor key=value``): separate
+            error rates per direction, their growth with range, the log-odds clamp
+            and thresholds.
+        odometry_noise: standard deviation of the position error each step adds to a
+            robot's estimate of where it is, as a fraction of the step's length
+            (0.05: 5 % of the distance). 0 (default): perfect localisation.
+        odometry_params: the odometry model's details (``--odometry key=value``):
+            heading drift and the rule that resets the error.
     """
 
     map: str = "office"
@@ -120,6 +132,21 @@ class Scenario:
     stall_ticks: int | None = None
     idle_ticks: int = 10
     patience: int = 3
+    sensor_noise: float = 0.0
+    sensor_params: dict[str, Any] = field(default_factory=dict)
+    odometry_noise: float = 0.0
+    odometry_params: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def noisy(self) -> bool:
+        """Whether sensing or localisation is imperfect (a sensor error rate or the
+        odometry error above 0); the scenario must be valid."""
+        from mrexplore.sim.noise import odometry_model, sensor_model
+
+        return (
+            sensor_model(self.sensor_noise, self.sensor_params).active
+            or odometry_model(self.odometry_noise, self.odometry_params).active
+        )
 
     def check(self) -> None:
         """Check everything that can be checked before a run: every field (type and
@@ -243,6 +270,9 @@ class Scenario:
         if not _is_real(self.failure_rate) or not 0.0 <= self.failure_rate <= 1.0:
             raise ScenarioError(f"--failure-rate {self.failure_rate}: must be in [0, 1]")
         self._check_failures()
+        from mrexplore.sim.noise import check_noise
+
+        check_noise(self)
 
     def _check_start(self) -> None:
         start = self.start
