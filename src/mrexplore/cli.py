@@ -159,6 +159,42 @@ def build_parser() -> argparse.ArgumentParser:
         help="sense every tick (moving), or only when not travelling (arrival, Sheng et al. "
         "2006 §2.1) (default: moving)",
     )
+    noise = run.add_argument_group(
+        "imperfect robots (default: perfect sensing and localisation; docs/noise.md)"
+    )
+    _add_number(
+        noise,
+        "--sensor-noise",
+        _float,
+        "probability in [0, 0.5) that one reading of a cell is wrong, free read as occupied "
+        "or the reverse; readings are fused as log-odds (default: 0)",
+        default=0.0,
+    )
+    noise.add_argument(
+        "--sensor",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="sensor model details: false_occupied, false_free, range_growth, clamp_free, "
+        "clamp_occupied, occupied_above, free_below (repeatable; default: none, each at the "
+        "default of docs/noise.md)",
+    )
+    _add_number(
+        noise,
+        "--odometry-noise",
+        _float,
+        "standard deviation of the position error each step adds to a robot's estimate of "
+        "where it is, as a fraction of the step (0.05 = 5%%) (default: 0)",
+        default=0.0,
+    )
+    noise.add_argument(
+        "--odometry",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="odometry model details: heading_deg (degrees per cell), reset (never | "
+        "meeting) (repeatable; default: none, heading_deg=0 and reset=never)",
+    )
     comm = run.add_argument_group("communication limits (default: unlimited and lossless)")
     comm.add_argument(
         "--comm-model",
@@ -448,7 +484,23 @@ def _scenario_from_args(args: argparse.Namespace) -> Any:
         stall_ticks=args.stall_ticks,
         idle_ticks=args.idle_ticks,
         patience=args.patience,
+        sensor_noise=args.sensor_noise,
+        sensor_params=_noise_params("--sensor", args.sensor),
+        odometry_noise=args.odometry_noise,
+        odometry_params=_noise_params("--odometry", args.odometry),
     )
+
+
+def _noise_params(option: str, items: list[str]) -> dict[str, Any]:
+    """``--sensor`` / ``--odometry`` pairs, converted and checked by their models."""
+    from mrexplore.params import resolve_params
+    from mrexplore.sim.noise import ODOMETRY_PARAMS, SENSOR_PARAMS
+
+    given = _pairs(option, items)
+    declared = SENSOR_PARAMS if option == "--sensor" else ODOMETRY_PARAMS
+    owner = "the sensor model" if option == "--sensor" else "the odometry model"
+    resolved = resolve_params(declared, given, owner=owner, option=option)
+    return {key: resolved[key] for key in given}  # typed
 
 
 def _fmt(value: Any) -> str:

@@ -601,7 +601,7 @@ class ExplorationEnv(ParallelEnv):
         np.fill_diagonal(self._in_contact, False)
         if not self.status_messages:
             # Teammates in the robot's sub-network are heard at once (a free beacon).
-            positions = np.array([r.position for r in robots], dtype=np.int32)
+            positions = np.array([r.believed for r in robots], dtype=np.int32)
             goals = np.array([r.goal if r.goal else (-1, -1) for r in robots], dtype=np.int32)
             heard_i, heard_j = np.nonzero(self._in_contact)
             self._heard_tick[heard_i, heard_j] = tick
@@ -620,7 +620,7 @@ class ExplorationEnv(ParallelEnv):
                 self._candidates[robot.id] = (
                     frontier_candidates(
                         robot.belief,
-                        robot.position,
+                        robot.believed,
                         self.n_candidates,
                         min_cluster_size=self.min_cluster_size,
                     )
@@ -644,8 +644,8 @@ class ExplorationEnv(ParallelEnv):
         mates[:, 4:6] = self._heard_goal[robot_id, others]
         mates[:, 6] = np.where(heard, simulation.tick - heard_tick, -1)
         obs: dict[str, Any] = {
-            "map": egocentric_crop(belief, robot.position, self.obs_radius),
-            "position": np.array(robot.position, dtype=np.int32),
+            "map": egocentric_crop(belief, robot.believed, self.obs_radius),
+            "position": np.array(robot.believed, dtype=np.int32),
             "goal": np.array(robot.goal if robot.goal else (-1, -1), dtype=np.int32),
             "teammates": mates,
             "needs_decision": np.array([self._needs_decision[robot_id]], dtype=np.int8),
@@ -654,14 +654,14 @@ class ExplorationEnv(ParallelEnv):
             obs["global_map"] = coarse_map(belief, self._coarse)
         if self.action_mode == "frontier":
             candidates = self._candidates[robot_id]
-            obs["candidates"] = candidate_features(candidates, robot.position, self.n_candidates)
+            obs["candidates"] = candidate_features(candidates, robot.believed, self.n_candidates)
             mask = np.zeros(self.n_actions, dtype=np.int8)
             mask[: len(candidates)] = 1
             mask[self.stay_action] = 1
             obs["action_mask"] = mask
         elif self.action_mode == "move":
             if robot.alive:
-                obs["action_mask"] = move_mask(belief, robot.position)
+                obs["action_mask"] = move_mask(belief, robot.believed)
             else:
                 obs["action_mask"] = np.eye(1, self.n_actions, dtype=np.int8)[0]
         return obs

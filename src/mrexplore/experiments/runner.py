@@ -44,13 +44,17 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     """The scenario as flat columns named like ``run``'s long options.
 
     ``params`` become ``param_<name>`` columns, ``sharing_params`` ``share_<name>``,
-    ``comm_params`` ``comm_<name>`` (as ``--comm name=value``);
+    ``comm_params`` ``comm_<name>`` (as ``--comm name=value``), ``sensor_params``
+    ``sensor_param_<name>`` and ``odometry_params`` ``odometry_param_<name>``
+    (``--sensor``, ``--odometry``);
     ``size`` is ``"WxH"``, ``start`` and ``fail`` are text.
     """
     data = scenario.to_dict()
     params = data.pop("params")
     share = data.pop("sharing_params")
     comm = data.pop("comm_params")
+    sensor = data.pop("sensor_params")
+    odometry = data.pop("odometry_params")
     out: dict[str, Any] = {}
     for key, value in data.items():
         if key == "start" and not isinstance(value, str):
@@ -61,6 +65,8 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     out.update({f"param_{k}": _scalar(v) for k, v in params.items()})
     out.update({f"share_{k}": _scalar(v) for k, v in share.items()})
     out.update({f"comm_{k}": _scalar(v) for k, v in comm.items()})
+    out.update({f"sensor_param_{k}": _scalar(v) for k, v in sensor.items()})
+    out.update({f"odometry_param_{k}": _scalar(v) for k, v in odometry.items()})
     return out
 
 
@@ -93,7 +99,14 @@ def execute(spec: RunSpec) -> RunOutcome:
     return RunOutcome(spec.run_id, row, curves)
 
 
-_NOT_METRICS = ("params", "sharing_params", "comm_params", "mrexplore_version")
+_NOT_METRICS = (
+    "params",
+    "sharing_params",
+    "comm_params",
+    "sensor_params",
+    "odometry_params",
+    "mrexplore_version",
+)
 
 
 def metric_columns(result: dict[str, Any], scenario: dict[str, Any]) -> dict[str, Any]:
@@ -111,12 +124,7 @@ def metric_columns(result: dict[str, Any], scenario: dict[str, Any]) -> dict[str
         if key in ("max_ticks", "sharing"):  # resolved values, when the scenario left them
             out[f"{key}_in_force"] = value
             continue
-        if key in scenario or key in (
-            "params",
-            "sharing_params",
-            "comm_params",
-            "mrexplore_version",
-        ):
+        if key in scenario or key in _NOT_METRICS:
             continue
         if isinstance(value, dict):
             for sub, sub_value in sorted(value.items()):

@@ -64,20 +64,28 @@ FloatArray = npt.NDArray[np.float64]
 SEED_COLUMN = "seed"
 
 #: Scenario columns: the :class:`~mrexplore.sim.scenario.Scenario` fields under the
-#: CLI's option names, without ``seed`` (:data:`SEED_COLUMN`) and without the three
+#: CLI's option names, without ``seed`` (:data:`SEED_COLUMN`) and without the
 #: parameter dictionaries, which the store flattens (:data:`SCENARIO_PREFIXES`).
 SCENARIO_COLUMNS: tuple[str, ...] = tuple(
     field.name
     for field in fields(Scenario)
     if field.name not in (SEED_COLUMN, "params", "sharing_params", "comm_params")
+    and not field.name.endswith("_params")
 )
 
 #: Prefixes of flattened scenario parameters: ``param_<name>`` for a strategy
 #: parameter (``--set name=value``), ``share_<name>`` for a parameter of the
 #: map-sharing mechanism (``--share name=value``), ``comm_<name>`` for one of the
 #: communication model (``--comm name=value``; ``comm_range`` and ``comm_los`` are
-#: scenario columns anyway).
-SCENARIO_PREFIXES: tuple[str, ...] = ("param_", "share_", "comm_")
+#: scenario columns anyway); ``sensor_param_<name>`` and ``odometry_param_<name>`` for the noise
+#: models' details (``--sensor``, ``--odometry``).
+SCENARIO_PREFIXES: tuple[str, ...] = (
+    "param_",
+    "share_",
+    "comm_",
+    "sensor_param_",
+    "odometry_param_",
+)
 
 #: Columns that describe a run but are not outcomes to compare: ids, provenance,
 #: machine-dependent timings, the limits in force, and scenario or map values

@@ -143,6 +143,10 @@ LATER_FIELDS: dict[str, Any] = {
     "start_delay": 0,
     "comm_model": "network",
     "comm_params": {},
+    "sensor_noise": 0.0,
+    "sensor_params": {},
+    "odometry_noise": 0.0,
+    "odometry_params": {},
 }
 
 
@@ -186,7 +190,16 @@ def _convert(key: str, value: Any) -> Any:
         return [parse_failure(str(item)) for item in items]
     if key == "start" and isinstance(value, str) and value not in ("together", "separate"):
         return parse_cells(value)
-    if key in ("comm_range", "sensor_range", "bandwidth", "speed", "loss", "failure_rate"):
+    if key in (
+        "comm_range",
+        "sensor_range",
+        "bandwidth",
+        "speed",
+        "loss",
+        "failure_rate",
+        "sensor_noise",
+        "odometry_noise",
+    ):
         if isinstance(value, str) and value.strip().lower() in ("inf", "infinity"):
             return math.inf
         if isinstance(value, int | float) and not isinstance(value, bool):

@@ -80,7 +80,7 @@ class Deciding:
         return RobotView(
             robot_id=robot.id,
             tick=tick,
-            position=robot.position,
+            position=robot.believed,
             belief=belief_view,
             goal=robot.goal,
             path_remaining=robot.path_remaining,
@@ -134,7 +134,7 @@ class Deciding:
             path = decision.path
             if path is None:
                 raise StrategyError(f"robot {robot.id}: a goal without a path")
-            check_path(path, robot.position, decision.goal, robot.belief)
+            check_path(path, robot.believed, decision.goal, robot.belief)
             robot.goal = (int(decision.goal[0]), int(decision.goal[1]))
             robot.path = np.asarray(path, dtype=np.int32)
             robot.path_index = 0

@@ -42,6 +42,7 @@ from mrexplore.sim.comms import Comms, Links
 from mrexplore.sim.deciding import Decider, Deciding, check_path
 from mrexplore.sim.end import EndCondition
 from mrexplore.sim.motion import Motion
+from mrexplore.sim.noise import Odometry, odometry_model, sensor_model
 from mrexplore.sim.record import BELIEF_CELLS_AUTO, RunRecord
 from mrexplore.sim.recorder import Recorder
 from mrexplore.sim.roster import Robot, Roster
@@ -117,12 +118,22 @@ class Simulation:
             comm_range_cells=comm_range,
             sensor_range_cells=self.world.sensor_range_cells,
         )
+        # Imperfect robots (off unless a noise is above 0: then nothing changes).
+        sensor, self.odometry = None, None
+        if scenario.noisy:
+            sensor = sensor_model(scenario.sensor_noise, scenario.sensor_params)
+            odometry = odometry_model(scenario.odometry_noise, scenario.odometry_params)
+            if odometry.active:
+                self.odometry = Odometry(odometry, self.world.starts, shape, self.streams.odometry)
         self.sensing = Sensing(
             self.world,
             self.robots,
             self.comms,
             self.stamps,
             arrival_only=scenario.sensing == "arrival",
+            sensor=sensor,
+            odometry=self.odometry,
+            sensor_rngs=self.streams.sensor,
         )
         self.motion = Motion(
             scenario,
@@ -131,6 +142,8 @@ class Simulation:
             self.sensing.truth_state,
             self.world.sensor_range_cells,
             self.stamps,
+            odometry=self.odometry,
+            sensing=self.sensing,
         )
         self.end = EndCondition(scenario, self.world, self.roster, self.sensing, self.comm)
         self.recorder = Recorder(

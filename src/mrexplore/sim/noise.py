@@ -75,8 +75,7 @@ __all__ = [
 SENSOR_PARAMS: dict[str, Param[Any]] = {
     "false_occupied": Param(
         -1.0,
-        help="probability that a free cell is read as occupied, at the robot (-1: "
-        "--sensor-noise)",
+        help="probability that a free cell is read as occupied, at the robot (-1: --sensor-noise)",
         note="-1 (default): the value of --sensor-noise",
         low=-1.0,
         high=0.5,
@@ -84,8 +83,7 @@ SENSOR_PARAMS: dict[str, Param[Any]] = {
     ),
     "false_free": Param(
         -1.0,
-        help="probability that an occupied cell is read as free, at the robot (-1: "
-        "--sensor-noise)",
+        help="probability that an occupied cell is read as free, at the robot (-1: --sensor-noise)",
         note="-1 (default): the value of --sensor-noise",
         low=-1.0,
         high=0.5,
@@ -257,7 +255,8 @@ def check_noise(scenario: Any) -> None:
             f"--odometry-noise {odometry}: must be a finite number >= 0 (standard deviation "
             "per cell travelled, as a fraction of the step)"
         )
-    for option, table in (("--sensor", scenario.sensor_params), ("--odometry", scenario.odometry_params)):
+    tables = (("--sensor", scenario.sensor_params), ("--odometry", scenario.odometry_params))
+    for option, table in tables:
         if not isinstance(table, Mapping):
             raise ScenarioError(f"{option} {table!r}: expected a mapping of KEY=VALUE")
     sensor_model(noise, scenario.sensor_params)
@@ -325,8 +324,6 @@ def noisy_sense_kernel(
     n_listed = 0
     explorable_new = 0
     stamp = robot_known.shape[0] > 0
-    occupied_step = math.log((1.0 - false_free) / false_occupied) if false_occupied > 0 else 1e9
-    free_step = math.log(false_free / (1.0 - false_occupied)) if false_free > 0 else -1e9
     # the robot's own cell: it knows it stands on free ground
     for k in range(-1, visible.shape[0]):
         if k < 0:
@@ -350,22 +347,21 @@ def noisy_sense_kernel(
                 wrong = draws[k] < false_occupied * growth
                 readings[1 if wrong else 0] += 1
                 read_occupied = wrong
-            b_row = int(math.floor(est_row + cos_h * d_row - sin_h * d_col + 0.5))
-            b_col = int(math.floor(est_col + sin_h * d_row + cos_h * d_col + 0.5))
+            b_row = math.floor(est_row + cos_h * d_row - sin_h * d_col + 0.5)
+            b_col = math.floor(est_col + sin_h * d_row + cos_h * d_col + 0.5)
             if b_row < 0 or b_col < 0 or b_row >= height or b_col >= width:
                 continue
             j = b_row * width + b_col
             if j == believed:
                 continue  # its own cell stays free
-            if false_occupied > 0 or false_free > 0:
-                p_fo = false_occupied * growth
-                p_ff = false_free * growth
-                if read_occupied:
-                    step = math.log((1.0 - p_ff) / p_fo) if p_fo > 0 else 1e9
-                else:
-                    step = math.log(p_ff / (1.0 - p_fo)) if p_ff > 0 else -1e9
+            # the inverse sensor model of the error rates at this range (an error-free
+            # direction is certain: the clamp bounds it)
+            p_fo = false_occupied * growth
+            p_ff = false_free * growth
+            if read_occupied:
+                step = math.log((1.0 - p_ff) / p_fo) if p_fo > 0 else 1e9
             else:
-                step = occupied_step if read_occupied else free_step
+                step = math.log(p_ff / (1.0 - p_fo)) if p_ff > 0 else -1e9
             level = log_odds[j] + step
         if level < clamp_low:
             level = clamp_low

@@ -21,6 +21,7 @@ from mrexplore.comm.sharing import Observation
 from mrexplore.grid.occupancy import FREE, OCCUPIED
 from mrexplore.planning.visibility import clip_radius, ray_table, visible_cells_kernel
 from mrexplore.sim.comms import Comms
+from mrexplore.sim.noise import Odometry, SensorModel, noisy_sense_kernel
 from mrexplore.sim.roster import Robot
 from mrexplore.sim.scenario import Cell
 from mrexplore.sim.stamps import BeliefStamps
@@ -95,6 +96,9 @@ class Sensing:
         stamps: BeliefStamps,
         *,
         arrival_only: bool,
+        sensor: SensorModel | None = None,
+        odometry: Odometry | None = None,
+        sensor_rngs: Sequence[np.random.Generator] = (),
     ) -> None:
         self.robots = robots
         self.comms = comms
@@ -117,6 +121,23 @@ class Sensing:
         # Each robot's last sensor footprint: the ground truth never changes, so a robot
         # that has not moved sees the same cells (the ray walk is skipped).
         self._last_visible: list[tuple[Cell, npt.NDArray[np.int64]] | None] = [None] * len(robots)
+        # Imperfect robots (mrexplore.sim.noise): readings fused as log-odds, written at
+        # the believed pose. None: perfect sensing and localisation.
+        self.noisy = sensor is not None
+        if sensor is not None:
+            self.sensor = sensor
+            self.odometry = odometry
+            self.sensor_rngs = sensor_rngs
+            self.sensor_range = max(float(world.sensor_range_cells), 1e-12)
+            n_cells = shape[0] * shape[1]
+            self.log_odds = [np.zeros(n_cells, dtype=np.float32) for _ in robots]
+            """Each robot's own evidence per cell (log-odds, 0: none)."""
+            self._world_sensed = [np.zeros(n_cells, dtype=np.bool_) for _ in robots]
+            self._listed = np.zeros(n_cells, dtype=np.int64)
+            self._calls = 0
+            self.readings = np.zeros(4, dtype=np.int64)
+            """Readings taken: free read free, free read occupied, occupied read free,
+            occupied read occupied."""
 
     def sense(self, tick: int) -> None:
         """Every live robot that senses at ``tick`` observes its disk (in id order)."""
@@ -130,6 +151,9 @@ class Sensing:
             if not robot.alive or (self.arrival_only and robot.travelling and tick > 0):
                 continue
             visible = self._visible(robot)
+            if self.noisy:
+                self._sense_noisy(robot, visible, tick)
+                continue
             n = visible.size
             rows = np.empty(n, dtype=np.int64)
             cols = np.empty(n, dtype=np.int64)
@@ -161,6 +185,75 @@ class Sensing:
             )
             for message in sharing.on_observe(robot.id, tick, observation, robot.belief):
                 self.comms.send(message, tick)
+
+    def _sense_noisy(self, robot: Robot, visible: npt.NDArray[np.int64], tick: int) -> None:
+        """Noisy readings of ``visible``, written at the robot's believed pose."""
+        sensor = self.sensor
+        n = visible.size + 1  # and the believed cell
+        rows = np.empty(n, dtype=np.int64)
+        cols = np.empty(n, dtype=np.int64)
+        values = np.empty(n, dtype=np.int8)
+        was_unknown = np.empty(n, dtype=np.bool_)
+        draws = self.sensor_rngs[robot.id].random(visible.size)
+        if self.odometry is not None:
+            est_row, est_col = (float(v) for v in self.odometry.estimate[robot.id])
+            heading = float(self.odometry.heading[robot.id])
+        else:
+            est_row, est_col, heading = float(robot.position[0]), float(robot.position[1]), 0.0
+        self._calls += 1
+        changed, n_listed, explorable_new = noisy_sense_kernel(
+            visible,
+            self._width,
+            self._height,
+            robot.position[0],
+            robot.position[1],
+            est_row,
+            est_col,
+            np.cos(heading),
+            np.sin(heading),
+            robot.believed[0] * self._width + robot.believed[1],
+            self.truth_state.reshape(-1),
+            draws,
+            self.sensor_range,
+            sensor.false_occupied,
+            sensor.false_free,
+            sensor.range_growth,
+            sensor.clamp_low,
+            sensor.clamp_high,
+            sensor.occupied_above,
+            sensor.free_below,
+            self.log_odds[robot.id],
+            robot.belief.reshape(-1),
+            robot.sensed.reshape(-1),
+            self._world_sensed[robot.id],
+            self.sense_count.reshape(-1),
+            self.first_known.reshape(-1),
+            self._explorable_flat,
+            tick,
+            self._listed,
+            self._calls,
+            rows,
+            cols,
+            values,
+            was_unknown,
+            self.stamps.sensed_cells(robot.id),
+            self.readings,
+        )
+        robot.new_cells += changed
+        if n_listed == 0:
+            return
+        self.known_explorable += explorable_new
+        observation = Observation(
+            rows[:n_listed], cols[:n_listed], values[:n_listed], was_unknown[:n_listed]
+        )
+        for message in self.comms.sharing.on_observe(robot.id, tick, observation, robot.belief):
+            self.comms.send(message, tick)
+
+    def bumped(self, robot: Robot, flat_cells: Sequence[int]) -> None:
+        """The robot bumped into walls at these belief cells: it is certain of them."""
+        if self.noisy:
+            for j in flat_cells:
+                self.log_odds[robot.id][j] = self.sensor.clamp_high
 
     def _visible(self, robot: Robot) -> npt.NDArray[np.int64]:
         """Flat indices of the cells ``robot`` sees: :func:`mrexplore.sensing.visible_cells`
