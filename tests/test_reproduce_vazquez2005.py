@@ -125,11 +125,14 @@ def test_office_maps_match_the_papers_areas(label: str) -> None:
 def test_interpretations_change_one_setting_each() -> None:
     names = [i.name for i in vz.INTERPRETATIONS]
     assert names[:3] == ["both-replan-when-explored", READING, "maps-on-reconnection"]
-    replan, positions, maps, *rules = vz.INTERPRETATIONS
+    replan, positions, maps, *rules, localisation = vz.INTERPRETATIONS
     assert replan.set == {"replan_on_target_explored": True}
     assert set(replan.strategies) == {vz.VAZQUEZ, vz.YAMAUCHI}  # both arms alike
     assert positions.set == {"position_period": 1} and positions.strategies == (vz.VAZQUEZ,)
     assert maps.scenario == {"sharing": "full"} and not maps.strategies and not maps.set
+    # §4 "known with an error margin of +-5%": odometry drift for both methods
+    assert localisation.scenario == {"odometry_noise": vz.PAPER_POSITION_ERROR}
+    assert not localisation.strategies and not localisation.set
     # every other reading of vazquez-network's rules: one parameter, a valid value
     from mrexplore.strategies.vazquez_network import VazquezNetwork
 

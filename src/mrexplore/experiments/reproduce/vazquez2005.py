@@ -112,7 +112,8 @@ team sizes | 2-10 | full: 2, 4, 6, 8, 10 (Yamauchi in the small map: 2-10); quic
 trials | {PAPER_TRIALS} per team size | full: seeds 1-{len(FULL_SEEDS)} (Yamauchi in the small
   map: 1-{PAPER_TRIALS}); quick: {len(QUICK_SEEDS)}
 start | relative positions to a known location | adjacent cells around a free cell of the seed
-localisation | known within +-{PAPER_POSITION_ERROR:.0%} | perfect (no position noise)
+localisation | known within +-{PAPER_POSITION_ERROR:.0%} | perfect; the reading
+  `localisation-error` adds odometry drift of {PAPER_POSITION_ERROR:.0%} per step
 information sharing | sensor data every {PAPER_BROADCAST_PERIOD_S} s, multi-hop to the team |
   `broadcast` sharing (new cells relayed to the sub-network each tick, nothing exchanged when
   sub-networks join); positions every 2 ticks
@@ -314,6 +315,11 @@ both-leave-on-break | {_RETURN} | when a bridge breaks, both robots leave their 
   the others as they go back (`broken_bridge_frontier=both-leave`; default: the lower id keeps
   its frontier and resumes it, as a stretched pair's lower id does) |
   broken_bridge_frontier=both-leave | {VAZQUEZ}
+localisation-error | §4 "The position of each robot its assumed to be known with an error
+  margin of +-5%" | each robot's estimate of where it is drifts by 5% of every step (standard
+  deviation, `--odometry-noise 0.05`, never reset: they "start off relative positions to a
+  known location"), for both methods alike; it senses, plans and shares at the estimate
+  (default: perfect localisation) | scenario.odometry_noise=0.05 | *
 """)
 
 
