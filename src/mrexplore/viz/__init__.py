@@ -2,13 +2,16 @@
 
 Everything here reads a run record (the arrays of ``trace.npz``: ``truth``,
 ``first_known``, ``positions`` and optionally ``alive``, ``goals``, ``component``,
-``link_bits``, ``robot_first_known``, see :mod:`mrexplore.trace`) and writes
+``link_bits``, ``robot_first_known`` and, from noisy runs, ``estimated_positions``,
+``localisation_error``, ``robot_belief``, see :mod:`mrexplore.trace`) and writes
 images, so any saved run can be viewed later:
 
 * :mod:`mrexplore.viz.render`: single frames, a plain GIF, the summary PNG;
 * :mod:`mrexplore.viz.animate`: the run's animation (GIF or MP4) with links,
   targets, a header and optional per-robot belief panels;
 * :mod:`mrexplore.viz.replay`: the self-contained ``replay.html``;
+* :mod:`mrexplore.viz.noise`: a noisy run's arrays read once for the animation,
+  the final picture and the replay (believed positions, each robot's own belief);
 * :mod:`mrexplore.viz.plots`: figures of sweeps (curves with bands, metric vs a
   scenario value, bytes by type, group diameter), one colour per strategy.
 
@@ -21,6 +24,8 @@ from __future__ import annotations
 
 from mrexplore.viz.animate import RunAnimator, ffmpeg_path, save_animation
 from mrexplore.viz.render import (
+    BELIEF_WRONG_FREE_RGB,
+    BELIEF_WRONG_OCCUPIED_RGB,
     KNOWN_FREE_RGB,
     KNOWN_OCCUPIED_RGB,
     ROBOT_COLOURS,
@@ -36,6 +41,8 @@ from mrexplore.viz.render import (
 from mrexplore.viz.replay import replay_html, write_replay
 
 __all__ = [
+    "BELIEF_WRONG_FREE_RGB",
+    "BELIEF_WRONG_OCCUPIED_RGB",
     "KNOWN_FREE_RGB",
     "KNOWN_OCCUPIED_RGB",
     "ROBOT_COLOURS",

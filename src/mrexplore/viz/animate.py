@@ -20,6 +20,24 @@ links, targets and belief panels appear only when the trace has ``link_bits`` an
 ``component``, ``goals`` and ``robot_first_known``. A belief panel shows which cells
 the robot knew, coloured by ground truth.
 
+Noisy runs (odometry drift, sensor noise: :mod:`mrexplore.viz.noise`) add:
+
+* with ``estimated_positions``: each live robot's believed cell as a hollow square
+  in its colour, joined to the robot by a thin line, on the map and in its belief
+  panel (nothing extra where the two cells are the same), and a header line with
+  the mean and largest localisation error of the live robots (``localisation_error``,
+  else the distance between the two cells);
+* with ``robot_belief``: the belief panels colour each cell the robot knows by the
+  robot's own belief instead of the truth, so a wall it mapped in the wrong place
+  shows there, and a cell whose belief disagrees with the truth is tinted red
+  (:data:`~mrexplore.viz.render.BELIEF_WRONG_FREE_RGB`: held free, a wall in truth;
+  :data:`~mrexplore.viz.render.BELIEF_WRONG_OCCUPIED_RGB`: held a wall, free in
+  truth). The trace keeps only the final belief: a cell appears at the tick the
+  robot first knew it (``robot_first_known``), drawn with the value the robot held
+  at the end of the run, not the one it held at that tick. A cell the robot no
+  longer holds at the end shows as unknown. Without ``robot_first_known`` the
+  panels show the final belief in every frame.
+
 Frames are palette images (the palette of :mod:`mrexplore.viz.render`), so a GIF
 is written exactly, without quantization. An MP4 needs an ffmpeg binary: the one
 ``imageio-ffmpeg`` ships (``pip install 'mrexplore[viz]'``) or ``ffmpeg`` on ``PATH``.
@@ -41,7 +59,15 @@ import numpy.typing as npt
 
 from mrexplore.errors import MrexploreError, MrexploreInputError
 from mrexplore.trace import n_link_pairs
+from mrexplore.viz.noise import (
+    belief_codes,
+    belief_first_known,
+    block_belief_codes,
+    estimated_positions,
+    localisation_errors,
+)
 from mrexplore.viz.render import (
+    _BELIEF_CODE_INDEX,
     _I_BODY0,
     _I_KNOWN_FREE,
     _I_OUTLINE,
@@ -74,6 +100,8 @@ _BORDER = 2
 _PANEL_AREA_MIN_PX = 240
 _PANEL_ROBOT_PX = 5
 _LINK_PX = 2
+_BELIEVED_PX = 2
+_PANEL_BELIEVED_PX = _PANEL_ROBOT_PX + 4
 
 
 FFMPEG_MISSING = (
@@ -114,13 +142,17 @@ class RunAnimator:
         trace: the arrays of ``trace.npz`` (a dict, an ``NpzFile`` or
             :meth:`RunRecord.trace_arrays`); needs ``truth``, ``first_known`` and
             ``positions``, uses ``alive``, ``goals``, ``component``, ``link_bits``,
-            ``robot_first_known``, ``coverage`` (or ``explorable``) when present.
+            ``robot_first_known``, ``coverage`` (or ``explorable``) and, from noisy
+            runs, ``estimated_positions``, ``localisation_error`` and
+            ``robot_belief`` when present.
         scale: pixels per cell of the main map (``None``: longer side about 500 px,
             large maps reduced, as in :func:`~mrexplore.viz.render_frame`).
         trail: ticks of path drawn behind each robot (``None``: the whole path).
         links, targets: draw communication links and current targets.
+        believed: draw each robot's believed cell (when the trace has
+            ``estimated_positions``).
         belief_panels: add one panel per robot with its own belief (needs
-            ``robot_first_known`` in the trace).
+            ``robot_first_known`` or ``robot_belief`` in the trace).
         title: a line above the header (e.g. strategy, team size and map).
     """
 
@@ -132,6 +164,7 @@ class RunAnimator:
         trail: int | None = None,
         links: bool = True,
         targets: bool = True,
+        believed: bool = True,
         belief_panels: bool = False,
         title: str = "",
     ) -> None:
@@ -156,23 +189,35 @@ class RunAnimator:
             # With unlimited range every pair is linked: lines would only hide the map.
             if not every_pair_linked(link_bits, self.component):
                 self.link_pairs = _link_pairs(link_bits, n_robots, n_ticks)
-        self.robot_known: npt.NDArray[np.int32] | None = None
+        estimated = estimated_positions(trace, self.trace.positions, (height, width))
+        self.estimated = estimated if believed else None
+        self.localisation = localisation_errors(trace, self.trace.positions, estimated)
+        self.robot_known: npt.NDArray[Any] | None = None
+        self.belief: npt.NDArray[np.uint8] | None = None
         if belief_panels:
-            if "robot_first_known" not in trace:
+            robot_known = belief_first_known(trace)
+            if robot_known is None:
                 raise MrexploreInputError(
-                    "belief panels need robot_first_known in the trace: run with "
-                    "--belief-panels (Simulation(..., record_beliefs=True))"
+                    "belief panels need robot_first_known (or robot_belief) in the trace: "
+                    "run with --belief-panels (Simulation(..., record_beliefs=True))"
                 )
-            self.robot_known = self._optional(trace, "robot_first_known", (n_robots, height, width))
+            name = "robot_first_known" if "robot_first_known" in trace else "robot_belief"
+            self.robot_known = self._shaped(name, robot_known, (n_robots, height, width))
+            codes = belief_codes(trace, self.trace.occupied)
+            if codes is not None:
+                self.belief = self._shaped("robot_belief", codes, (n_robots, height, width))
         self.coverage = _coverage(trace, self.trace)
         self.font = _font(_FONT_PX)
         self._layout()
 
-    @staticmethod
-    def _optional(trace: Mapping[str, Any], name: str, shape: tuple[int, ...]) -> Any:
+    @classmethod
+    def _optional(cls, trace: Mapping[str, Any], name: str, shape: tuple[int, ...]) -> Any:
         if name not in trace:
             return None
-        array = np.asarray(trace[name])
+        return cls._shaped(name, np.asarray(trace[name]), shape)
+
+    @staticmethod
+    def _shaped(name: str, array: Any, shape: tuple[int, ...]) -> Any:
         if array.shape != shape:
             raise MrexploreInputError(f"{name} has shape {array.shape}, expected {shape}")
         return array
@@ -182,7 +227,8 @@ class RunAnimator:
         height, width = self.trace.occupied.shape
         self.map_h = -(-height // self.stride) * self.scale
         self.map_w = -(-width // self.stride) * self.scale
-        self.header_h = _LINE_H * (2 if self.title else 1) + 4
+        header_lines = 1 + bool(self.title) + (self.localisation is not None)
+        self.header_h = _LINE_H * header_lines + 4
         self.map_top = self.header_h
         total_w, total_h = self.map_w, self.map_h
         self.panel_boxes: list[tuple[int, int]] = []
@@ -205,6 +251,14 @@ class RunAnimator:
             self.panel_known = known[:, pick_rows, pick_cols]
             occupied = _block_any(self.trace.occupied != 0, panel_stride)
             self.panel_occupied = occupied[pick_rows, pick_cols].astype(np.uint8)
+            # The palette index of each panel cell once known: the truth's, or with
+            # robot_belief the robot's own final belief (wrong cells tinted red).
+            self.panel_known_index = np.broadcast_to(
+                self.panel_occupied + _I_KNOWN_FREE, (n_robots, self.panel_h, self.panel_w)
+            )
+            if self.belief is not None:
+                codes = block_belief_codes(self.belief, panel_stride)[:, pick_rows, pick_cols]
+                self.panel_known_index = _BELIEF_CODE_INDEX[codes]
             box_w = self.panel_w + 2 * _BORDER
             box_h = self.panel_h + 2 * _BORDER + _CAPTION_H
             left0 = self.map_w + 2 * _GAP
@@ -258,6 +312,8 @@ class RunAnimator:
                     self._centre(positions[b]),
                     int(_I_BODY0 + colour_of[leader]),
                 )
+        if self.estimated is not None:
+            self._believed(draw, tick)
         if self.goals is not None:
             radius = _robot_side(self.scale) / 2 + 2
             alive = trace.alive[tick] if trace.alive is not None else None
@@ -279,11 +335,39 @@ class RunAnimator:
         result: UInt8Array = np.asarray(image, dtype=np.uint8).copy()
         return result
 
+    def _believed(self, draw: Any, tick: int) -> None:
+        """Each live robot's believed cell: a hollow square in its colour and a thin
+        line to the robot (drawn before the robots, which then sit on top)."""
+        assert self.estimated is not None
+        trace = self.trace
+        half = _robot_side(self.scale) / 2 + 1
+        for robot, (cell, believed) in enumerate(
+            zip(trace.positions[tick], self.estimated[tick], strict=True)
+        ):
+            if (trace.alive is not None and not trace.alive[tick, robot]) or (
+                cell // self.stride == believed // self.stride
+            ).all():
+                continue
+            colour = int(_I_BODY0 + robot % len(ROBOT_COLOURS))
+            x, y = self._centre(believed)
+            draw.line((self._centre(cell), (x, y)), fill=colour, width=1)
+            box = (round(x - half), round(y - half), round(x + half), round(y + half))
+            draw.rectangle(box, outline=colour, width=_BELIEVED_PX)
+
+    def _panel_pixel(self, cell: npt.NDArray[np.intp]) -> tuple[int, int]:
+        """The pixel (row, column) of a cell's centre in a belief panel."""
+        height, width = self.trace.occupied.shape
+        return (
+            (2 * int(cell[0]) + 1) * self.panel_h // (2 * height),
+            (2 * int(cell[1]) + 1) * self.panel_w // (2 * width),
+        )
+
     def _panel(self, canvas: UInt8Array, robot: int, tick: int, left: int, top: int) -> None:
         assert self.robot_known is not None
         trace = self.trace
         known = self.panel_known[robot]
-        image = self.panel_occupied + 2 * ((known >= 0) & (known <= tick)).view(np.uint8)
+        known_now = (known >= 0) & (known <= tick)
+        image = np.where(known_now, self.panel_known_index[robot], self.panel_occupied)
         colour = int(_I_BODY0 + robot % len(ROBOT_COLOURS))
         box_top = top + _CAPTION_H
         canvas[
@@ -295,11 +379,15 @@ class RunAnimator:
             left + _BORDER : left + _BORDER + self.panel_w,
         ]
         inner[:] = image
-        height, width = trace.occupied.shape
-        row, col = (int(v) for v in trace.positions[tick, robot])
+        centre = self._panel_pixel(trace.positions[tick, robot])
+        alive = trace.alive is None or bool(trace.alive[tick, robot])
+        if self.estimated is not None and alive:
+            believed = self._panel_pixel(self.estimated[tick, robot])
+            if believed != centre:
+                _pixel_line(inner, centre, believed, colour)
+                _hollow_square(inner, believed, _PANEL_BELIEVED_PX, colour)
         side = _PANEL_ROBOT_PX
-        top_px = (2 * row + 1) * self.panel_h // (2 * height) - side // 2
-        left_px = (2 * col + 1) * self.panel_w // (2 * width) - side // 2
+        top_px, left_px = centre[0] - side // 2, centre[1] - side // 2
         inner[max(top_px - 1, 0) : top_px + side + 1, max(left_px - 1, 0) : left_px + side + 1] = (
             _I_OUTLINE
         )
@@ -319,6 +407,18 @@ class RunAnimator:
             if failed:
                 status += f"    failed {failed}"
         lines.append(status)
+        if self.localisation is not None:
+            live = (
+                self.localisation[tick]
+                if trace.alive is None
+                else self.localisation[tick][trace.alive[tick]]
+            )
+            if live.size:
+                lines.append(
+                    f"localisation error: mean {live.mean():.1f}, max {live.max():.1f} cells"
+                )
+            else:
+                lines.append("localisation error: no live robot")
         for index, line in enumerate(lines):
             draw.text((4, 2 + index * _LINE_H), line, fill=_I_OUTLINE, font=self.font)
         for robot, (left, top) in enumerate(self.panel_boxes):
@@ -340,6 +440,30 @@ class RunAnimator:
 
 #: The colours of a frame's palette indices (RGB, uint8).
 PALETTE: UInt8Array = _PALETTE
+
+
+def _pixel_line(image: UInt8Array, start: tuple[int, int], end: tuple[int, int], fill: int) -> None:
+    """A 1 px line from pixel ``start`` to ``end`` (row, column), clipped to ``image``."""
+    steps = max(abs(end[0] - start[0]), abs(end[1] - start[1])) + 1
+    rows = np.rint(np.linspace(start[0], end[0], steps)).astype(np.intp)
+    cols = np.rint(np.linspace(start[1], end[1], steps)).astype(np.intp)
+    inside = (rows >= 0) & (rows < image.shape[0]) & (cols >= 0) & (cols < image.shape[1])
+    image[rows[inside], cols[inside]] = fill
+
+
+def _hollow_square(image: UInt8Array, centre: tuple[int, int], side: int, fill: int) -> None:
+    """The 1 px outline of a ``side`` px square centred on pixel ``centre``, clipped."""
+    top, left = centre[0] - side // 2, centre[1] - side // 2
+    bottom, right = top + side - 1, left + side - 1
+    height, width = image.shape
+    rows = slice(max(top, 0), min(bottom + 1, height))
+    cols = slice(max(left, 0), min(right + 1, width))
+    for row in (top, bottom):
+        if 0 <= row < height:
+            image[row, cols] = fill
+    for col in (left, right):
+        if 0 <= col < width:
+            image[rows, col] = fill
 
 
 def _link_line(draw: Any, start: tuple[float, float], end: tuple[float, float], fill: int) -> None:
@@ -404,7 +528,8 @@ def save_animation(
     Ticks are taken by :func:`~mrexplore.viz.frame_ticks`: at most ``max_frames``,
     evenly spread, the first and the last included, so a 5,000-tick run gives a
     file of the same size as a 300-tick one. ``options`` go to :class:`RunAnimator`
-    (``scale``, ``trail``, ``links``, ``targets``, ``belief_panels``, ``title``).
+    (``scale``, ``trail``, ``links``, ``targets``, ``believed``, ``belief_panels``,
+    ``title``).
     The GIF loops forever and holds its last frame ``hold_last_ms``.
 
     Raises:

@@ -23,6 +23,10 @@ path so far of robot ``n``    ``ROBOT_COLOURS[n % 12]`` (lightened when
                               cells are 5 px or more)
 robot ``n``                   ``ROBOT_COLOURS[n % 12]``, dark outline
 failed robot                  as above, crossed out
+believed cell of robot ``n``  noisy runs: a hollow square in
+                              ``ROBOT_COLOURS[n % 12]`` and a thin line
+                              to the robot (the summary figure and
+                              :mod:`~mrexplore.viz.animate`)
 ============================  =====================================
 
 :func:`render_frame` and :func:`save_gif` are pure numpy + Pillow. Frames are built
@@ -74,6 +78,10 @@ UNKNOWN_FREE_RGB: RGB = (208, 208, 208)
 UNKNOWN_OCCUPIED_RGB: RGB = (112, 112, 112)
 KNOWN_FREE_RGB: RGB = (255, 255, 255)
 KNOWN_OCCUPIED_RGB: RGB = (0, 0, 0)
+#: Belief panels of noisy runs: a cell the robot holds free that is a wall in truth.
+BELIEF_WRONG_FREE_RGB: RGB = (255, 160, 160)
+#: Belief panels of noisy runs: a cell the robot holds as a wall that is free in truth.
+BELIEF_WRONG_OCCUPIED_RGB: RGB = (128, 0, 0)
 _OUTLINE_RGB: RGB = (20, 20, 20)
 #: Summary figure only: free cells not reachable from the start (not to explore).
 _UNREACHABLE_RGB: RGB = (242, 234, 218)
@@ -91,6 +99,21 @@ _I_KNOWN_OCCUPIED = 3
 _I_OUTLINE = 4
 _I_BODY0 = 5
 _I_TRAIL0 = _I_BODY0 + len(ROBOT_COLOURS)
+_I_WRONG_FREE = _I_TRAIL0 + len(ROBOT_COLOURS)
+_I_WRONG_OCCUPIED = _I_WRONG_FREE + 1
+#: Palette index of each belief code (:mod:`mrexplore.viz.noise`): the four map
+#: classes keep theirs, the two wrong beliefs get their own.
+_BELIEF_CODE_INDEX = np.array(
+    [
+        _I_UNKNOWN_FREE,
+        _I_UNKNOWN_OCCUPIED,
+        _I_KNOWN_FREE,
+        _I_KNOWN_OCCUPIED,
+        _I_WRONG_FREE,
+        _I_WRONG_OCCUPIED,
+    ],
+    dtype=np.uint8,
+)
 
 
 def _build_palette() -> UInt8Array:
@@ -110,6 +133,7 @@ def _build_palette() -> UInt8Array:
                 round(blue + (255 - blue) * _TRAIL_WHITE),
             )
         )
+    colours.extend((BELIEF_WRONG_FREE_RGB, BELIEF_WRONG_OCCUPIED_RGB))
     return np.array(colours, dtype=np.uint8)
 
 
@@ -569,6 +593,7 @@ def save_final_png(
     credit: str = "",
     alive: npt.ArrayLike | None = None,
     explorable: npt.ArrayLike | None = None,
+    estimated_positions: npt.ArrayLike | None = None,
     dpi: int = 110,
 ) -> Path:
     """Write a summary PNG: ground truth beside the team's final map and paths.
@@ -582,16 +607,61 @@ def save_final_png(
     sits under the panels and ``credit`` (required wherever someone else's map is
     shown) in small print at the very bottom.
 
+    With ``estimated_positions`` (``(T+1) x N x 2``, the cell each robot believed it
+    was on: the trace of a run with odometry drift), each live robot whose believed
+    cell at the last tick is not its true one also gets a hollow square in its
+    colour on the believed cell, joined to its final position by a thin line, and
+    the legend a "believed position" entry.
+
     Returns:
         The path written, as a :class:`~pathlib.Path`.
     """
+    fig = _final_figure(
+        truth,
+        first_known,
+        positions,
+        title=title,
+        credit=credit,
+        alive=alive,
+        explorable=explorable,
+        estimated_positions=estimated_positions,
+        dpi=dpi,
+    )
+    out = Path(path)
+    fig.savefig(out, format="png", dpi=dpi)
+    return out
+
+
+def _final_figure(
+    truth: npt.ArrayLike,
+    first_known: npt.ArrayLike,
+    positions: npt.ArrayLike,
+    *,
+    title: str,
+    credit: str,
+    alive: npt.ArrayLike | None,
+    explorable: npt.ArrayLike | None,
+    estimated_positions: npt.ArrayLike | None,
+    dpi: int,
+) -> Any:
+    """The figure of :func:`save_final_png`; its axes are the ground truth, then
+    the team's map (``fig.axes[1]``, in cell coordinates: x = column, y = row)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
+    from mrexplore.viz.noise import estimated_positions as checked_estimates
+
     trace = _check_trace(truth, first_known, positions, alive)
     explorable_arr = _check_explorable(explorable, trace.occupied.shape)
+    believed = (
+        checked_estimates(
+            {"estimated_positions": estimated_positions}, trace.positions, trace.occupied.shape
+        )
+        if estimated_positions is not None
+        else None
+    )
     height, width = trace.occupied.shape
     last = trace.last_tick
     n_robots = trace.n_robots
@@ -636,6 +706,22 @@ def save_final_png(
     if failed.size:
         key_handles.append(
             Line2D([], [], ls="none", marker="x", color="black", mew=2, ms=8, label="failed")
+        )
+    if believed is not None:
+        key_handles.append(
+            # Hollow and grey, on a line: unlike the white-filled "final position".
+            Line2D(
+                [],
+                [],
+                color="0.45",
+                lw=0.8,
+                marker="s",
+                mfc="none",
+                mec="0.45",
+                mew=1.5,
+                ms=7,
+                label="believed position",
+            )
         )
     key_handles.extend(
         Patch(facecolor=_rgb_float(rgb), edgecolor="0.5", label=label)
@@ -720,6 +806,8 @@ def save_final_png(
             mew=0.8,
             ms=marker_pt,
         )
+    if believed is not None:
+        _draw_believed_final(ax_known, trace, believed, line_w, marker_pt)
     for robot in failed:
         ax_known.plot(
             cols[-1, robot],
@@ -763,10 +851,24 @@ def save_final_png(
         legend_top -= height_in
     if credit_text:
         fig.text(0.5, 0.06 / fig_h, credit_text, ha="center", va="bottom", fontsize=7, color="0.3")
+    return fig
 
-    out = Path(path)
-    fig.savefig(out, format="png", dpi=dpi)
-    return out
+
+def _draw_believed_final(
+    ax: Any, trace: _Trace, believed: IntArray, line_w: float, marker_pt: float
+) -> None:
+    """Each live robot's believed cell at the last tick: a hollow square in its
+    colour, a thin line to its true cell (nothing where the two are the same)."""
+    last = trace.last_tick
+    for robot in range(trace.n_robots):
+        if trace.alive is not None and not trace.alive[last, robot]:
+            continue
+        (true_row, true_col), (row, col) = trace.positions[last, robot], believed[last, robot]
+        if (row, col) == (true_row, true_col):
+            continue
+        colour = _rgb_float(robot_colour(robot))
+        ax.plot([true_col, col], [true_row, row], color=colour, lw=max(0.6, line_w / 2))
+        ax.plot(col, row, marker="s", ls="none", mfc="none", mec=colour, mew=1.5, ms=marker_pt)
 
 
 def coverage_plot_png(

@@ -23,7 +23,16 @@ a curve jumps to that tick. Stable element ids (``#tick``, ``#coverage``,
 scriptable; ``window.replay`` exposes ``seek(tick)``, ``play()``, ``pause()`` and
 ``benchmark(frames)`` (mean milliseconds to draw a frame). A fragment opens the page
 at a moment with chosen layers: ``replay.html#tick=250&beliefs=1&links=0``
-(also ``targets``, ``trails``, ``speed``).
+(also ``targets``, ``trails``, ``believed``, ``speed``).
+
+A noisy run's trace (:mod:`mrexplore.viz.noise`) adds, when it has them: each
+robot's believed cell (``estimated_positions``, sent as per-tick deltas like the
+positions) drawn as a hollow square in its colour joined to the robot by a thin
+line, with a toggle ``#show-believed``; the mean and largest localisation error
+(``#localisation``); and belief panels coloured by each robot's final belief
+(``robot_belief``), with the cells it holds wrongly tinted red. As in the
+animation (:mod:`mrexplore.viz.animate`), a panel shows a cell from the tick the
+robot first knew it, with the value it held at the end of the run.
 
 Maps wider or taller than :data:`MAX_MAP_CELLS` cells are embedded reduced by
 whole blocks (each block shows its earliest-known cell and any wall); belief
@@ -49,7 +58,16 @@ from mrexplore import __version__
 from mrexplore.errors import MrexploreInputError
 from mrexplore.trace import REQUIRED_TRACE_ARRAYS, load_trace
 from mrexplore.viz.animate import every_pair_linked
+from mrexplore.viz.noise import (
+    belief_codes,
+    belief_first_known,
+    block_belief_codes,
+    estimated_positions,
+    localisation_errors,
+)
 from mrexplore.viz.render import (
+    BELIEF_WRONG_FREE_RGB,
+    BELIEF_WRONG_OCCUPIED_RGB,
     KNOWN_FREE_RGB,
     KNOWN_OCCUPIED_RGB,
     ROBOT_COLOURS,
@@ -162,8 +180,20 @@ def replay_data(
             "unknown_occupied": _hex(UNKNOWN_OCCUPIED_RGB),
             "known_free": _hex(KNOWN_FREE_RGB),
             "known_occupied": _hex(KNOWN_OCCUPIED_RGB),
+            "wrong_free": _hex(BELIEF_WRONG_FREE_RGB),
+            "wrong_occupied": _hex(BELIEF_WRONG_OCCUPIED_RGB),
         },
     }
+    estimated = estimated_positions(trace, checked.positions, (height, width))
+    if estimated is not None:
+        estimated_start, estimated_deltas = _time_deltas(estimated)
+        meta["estimated_start"] = estimated_start
+        arrays["estimated_positions"] = _pack(estimated_deltas)
+    errors = localisation_errors(trace, checked.positions, estimated)
+    if errors is not None:
+        # In tenths of a cell, as the page shows them: narrow integers compress well.
+        tenths = np.rint(np.clip(errors, 0, None) * 10).astype(np.int64)
+        arrays["localisation_error"] = _pack(_narrow_int(tenths, signed=False))
     if checked.alive is not None:
         dead = ~checked.alive
         meta["fail_tick"] = [
@@ -193,14 +223,16 @@ def replay_data(
         arrays["bytes"] = _pack(sent)
     if "subnetworks" in trace and np.asarray(trace["subnetworks"]).shape == (n_ticks,):
         arrays["subnetworks"] = _pack(_narrow_int(np.asarray(trace["subnetworks"])))
-    robot_known = trace.get("robot_first_known")
-    if robot_known is not None and np.asarray(robot_known).shape == (n_robots, height, width):
+    robot_known = belief_first_known(trace)
+    if robot_known is not None and robot_known.shape == (n_robots, height, width):
         panel_stride = max(1, math.ceil(max(height, width) / MAX_PANEL_CELLS))
         meta["panel_stride"] = panel_stride
         arrays["panel_truth"] = _bits(_block_any(checked.occupied != 0, panel_stride))
-        arrays["robot_known"] = _pack(
-            _ticks_plus_one(_block_min_ticks(np.asarray(robot_known), panel_stride))
-        )
+        arrays["robot_known"] = _pack(_ticks_plus_one(_block_min_ticks(robot_known, panel_stride)))
+        codes = belief_codes(trace, checked.occupied)
+        if codes is not None and codes.shape[0] == n_robots:
+            # The colour class each panel cell takes once known (noise.belief_codes).
+            arrays["panel_belief"] = _pack(block_belief_codes(codes, panel_stride))
     meta.update(_describe(result, n_robots))
     return {"meta": meta, "arrays": arrays}
 

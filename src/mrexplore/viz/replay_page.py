@@ -30,6 +30,7 @@ PAGE_TEMPLATE = """<!DOCTYPE html>
     <label><input id="show-links" type="checkbox" checked> links</label>
     <label><input id="show-targets" type="checkbox" checked> targets</label>
     <label><input id="show-trails" type="checkbox" checked> trails</label>
+    <label><input id="show-believed" type="checkbox" checked> believed positions</label>
     <label><input id="show-beliefs" type="checkbox"> robot beliefs</label>
   </span>
 </div>
@@ -39,6 +40,8 @@ PAGE_TEMPLATE = """<!DOCTYPE html>
   <span>bytes sent <b id="bytes">0</b></span>
   <span>sub-networks <b id="subnetworks">-</b></span>
   <span>failed <b id="failed">0</b></span>
+  <span id="localisation-box" hidden>localisation error mean / max
+    <b id="localisation">-</b> cells</span>
 </div>
 <p id="status">Loading the run&hellip;</p>
 <main id="stage">
@@ -51,7 +54,10 @@ PAGE_TEMPLATE = """<!DOCTYPE html>
   <p id="credit"></p>
   <p class="small">Written by <span id="generator">mrexplore</span>. Links are those in
   force during the tick, coloured like the lowest-id robot of their sub-network; a ring
-  is a robot's current target; a crossed-out robot has failed. Space: play/pause,
+  is a robot's current target; a crossed-out robot has failed; a hollow square joined
+  to a robot is the cell it believes it is on (runs with odometry drift). A belief panel
+  shows a cell from the tick the robot first knew it, with the value it held at the
+  end (the run keeps only its final belief). Space: play/pause,
   arrows: step, click a curve: jump; <code>#tick=250&amp;beliefs=1</code> after the file
   name opens the replay at that tick with the robots' beliefs shown.</p>
 </footer>
@@ -86,6 +92,8 @@ header p { margin: 0 0 8px 0; color: #555; font-size: 0.85rem; }
 #legend { display: flex; flex-wrap: wrap; gap: 4px 14px; font-size: 0.8rem; margin-top: 10px; }
 .chip { display: inline-block; width: 11px; height: 11px; border: 1px solid #333;
   vertical-align: -1px; margin-right: 4px; }
+.chip.hollow { width: 9px; height: 9px; border: 2px solid #333; background: transparent; }
+#localisation { min-width: 6em; }
 footer p { font-size: 0.75rem; color: #666; max-width: 70em; }
 .small { font-size: 0.75rem; }
 """
@@ -167,6 +175,10 @@ SCRIPT = r"""
   }
   const pos = integrate(meta.start, A.positions);
   const goals = A.goals ? integrate(meta.goal_start, A.goals) : null;
+  // Noisy runs: the cell each robot believes it is on, and its localisation error.
+  const est = A.estimated_positions ? integrate(meta.estimated_start, A.estimated_positions)
+    : null;
+  const locError = A.localisation_error || null;
 
   // Map: cells sorted by the tick they became known; known at t = first start[t+1].
   const occupied = unpackBits(A.truth, HB * WB);
@@ -189,12 +201,17 @@ SCRIPT = r"""
   const team = sortByTick(A.first_known, 0, HB * WB);
   A.first_known = null;
   const MC = meta.map_colours;
+  // Colour classes: 0-3 unknown free/wall, known free/wall; 4-5 (belief panels of
+  // noisy runs) held free but a wall in truth, held a wall but free in truth.
   const PIX = [rgba(MC.unknown_free), rgba(MC.unknown_occupied),
-    rgba(MC.known_free), rgba(MC.known_occupied)];
+    rgba(MC.known_free), rgba(MC.known_occupied), rgba(MC.wrong_free || MC.known_free),
+    rgba(MC.wrong_occupied || MC.known_occupied)];
+  const knownOf = (occ) => occ.map((v) => v + 2);
 
-  // A layer of cells drawn into an ImageData; changed tiles go to its canvas.
+  // A layer of cells drawn into an ImageData; changed tiles go to its canvas. A cell
+  // shows class occ[i] while unknown and kn[i] once known.
   const TILE = 64;
-  function cellLayer(width, height, occ) {
+  function cellLayer(width, height, occ, kn) {
     const canvas = document.createElement("canvas");
     canvas.width = width; canvas.height = height;
     const ctx = canvas.getContext("2d");
@@ -203,22 +220,23 @@ SCRIPT = r"""
     for (let i = 0; i < px.length; i++) px[i] = PIX[occ[i]];
     ctx.putImageData(image, 0, 0);
     const tilesX = Math.ceil(width / TILE), tilesY = Math.ceil(height / TILE);
-    return { canvas, ctx, image, px, shown: -1, width, height, occ, tilesX, tilesY,
+    return { canvas, ctx, image, px, shown: -1, width, height, occ, kn, tilesX, tilesY,
       dirty: new Uint8Array(tilesX * tilesY) };
   }
   // Bring a layer from the tick it shows to tick t, painting only the cells in between.
   function advance(layer, sorted, t) {
     const from = layer.shown, order = sorted.order, start = sorted.start;
     if (from === t) return;
-    let a, b, known;
-    if (t > from) { a = start[from + 1]; b = start[t + 1]; known = 2; }
-    else { a = start[t + 1]; b = start[from + 1]; known = 0; }
-    const px = layer.px, occ = layer.occ, width = layer.width, dirty = layer.dirty;
+    let a, b;
+    if (t > from) { a = start[from + 1]; b = start[t + 1]; }
+    else { a = start[t + 1]; b = start[from + 1]; }
+    const cls = t > from ? layer.kn : layer.occ;
+    const px = layer.px, width = layer.width, dirty = layer.dirty;
     const tilesX = layer.tilesX;
     let any = false;
     for (let k = a; k < b; k++) {
       const i = order[k];
-      px[i] = PIX[known + occ[i]];
+      px[i] = PIX[cls[i]];
       const y = (i / width) | 0;
       dirty[((y / TILE) | 0) * tilesX + (((i - y * width) / TILE) | 0)] = 1;
       any = true;
@@ -233,7 +251,7 @@ SCRIPT = r"""
         Math.min(TILE, layer.width - x), Math.min(TILE, layer.height - y));
     }
   }
-  const base = cellLayer(WB, HB, occupied);
+  const base = cellLayer(WB, HB, occupied, knownOf(occupied));
 
   // Links: pair k <-> (a, b), a < b, in the order (0,1), (0,2), ..., (1,2), ...
   const pairA = [], pairB = [];
@@ -241,15 +259,20 @@ SCRIPT = r"""
   const linkBytes = Math.ceil(pairA.length / 8);
   const hasLinks = !!(A.link_bits && A.component);
 
-  // Belief panels (optional): every robot's first-known ticks, reduced.
+  // Belief panels (optional): every robot's first-known ticks, reduced; with a noisy
+  // run's final beliefs, the class each cell takes once known (panel_belief).
   const hasBeliefs = !!A.robot_known;
+  const beliefColours = !!A.panel_belief;
   let panels = [];
   if (hasBeliefs) {
     const PS = meta.panel_stride, HP = Math.ceil(H / PS), WP = Math.ceil(W / PS);
     const panelOcc = unpackBits(A.panel_truth, HP * WP);
+    const panelKnown = knownOf(panelOcc);
     for (let r = 0; r < N; r++) {
       const sorted = sortByTick(A.robot_known, r * HP * WP, HP * WP);
-      panels.push({ sorted, layer: cellLayer(WP, HP, panelOcc), WP, HP, PS });
+      const kn = beliefColours ? A.panel_belief.subarray(r * HP * WP, (r + 1) * HP * WP)
+        : panelKnown;
+      panels.push({ sorted, layer: cellLayer(WP, HP, panelOcc, kn), WP, HP, PS });
     }
     A.robot_known = null;
   } else {
@@ -263,6 +286,12 @@ SCRIPT = r"""
     $("show-links").parentElement.title = "every two robots are linked at every tick";
   }
   if (!goals) $("show-targets").disabled = true;
+  if (!est) {
+    $("show-believed").disabled = true;
+    $("show-believed").parentElement.title = "this run has no odometry drift " +
+      "(no estimated_positions in its trace)";
+  }
+  if (locError) $("localisation-box").hidden = false;
 
   // ------------------------------------------------------------------ page
   document.title = "mrexplore replay: " + (meta.title || "run");
@@ -291,10 +320,14 @@ SCRIPT = r"""
   if (N > 24) legendItems.push(["#888888", `... ${N} robots (colours repeat)`]);
   legendItems.push([MC.known_free, "known free"], [MC.known_occupied, "known wall"],
     [MC.unknown_free, "unknown free"], [MC.unknown_occupied, "unknown wall"]);
+  if (est) legendItems.push([null, "believed position"]);
+  if (beliefColours) legendItems.push([MC.wrong_free, "belief free, truly a wall"],
+    [MC.wrong_occupied, "belief wall, truly free"]);
   for (const [colour, label] of legendItems) {
     const item = document.createElement("span");
     const chip = document.createElement("span");
-    chip.className = "chip"; chip.style.background = colour;
+    if (colour === null) chip.className = "chip hollow";
+    else { chip.className = "chip"; chip.style.background = colour; }
     item.appendChild(chip); item.appendChild(document.createTextNode(label));
     legend.appendChild(item);
   }
@@ -393,6 +426,18 @@ SCRIPT = r"""
       c2d.stroke();
     }
   }
+  // A robot's believed cell: a hollow square in its colour, a thin line to the robot.
+  function drawBelieved(c2d, x, y, bx, by, side, colour) {
+    c2d.strokeStyle = colour;
+    c2d.lineWidth = 1;
+    c2d.beginPath(); c2d.moveTo(x, y); c2d.lineTo(bx, by); c2d.stroke();
+    c2d.lineWidth = 2;
+    c2d.strokeRect(bx - side / 2, by - side / 2, side, side);
+  }
+  const estAt = (t, i, axis) => est[(t * N + i) * 2 + axis];
+  function believedShown(t, i) {
+    return alive(t, i) && (estAt(t, i, 0) !== at(t, i, 0) || estAt(t, i, 1) !== at(t, i, 1));
+  }
   function drawMap(t) {
     let clock = performance.now();
     const lap = (name) => {
@@ -409,8 +454,15 @@ SCRIPT = r"""
     if ($("show-trails").checked) drawTrails(t);
     lap("trails");
     if (hasLinks && $("show-links").checked) drawLinks(t);
-    if (goals && $("show-targets").checked) drawTargets(t);
     const side = robotSide();
+    if (est && $("show-believed").checked) {
+      for (let i = 0; i < N; i++) {
+        if (!believedShown(t, i)) continue;
+        drawBelieved(ctx, cx(at(t, i, 1)), cx(at(t, i, 0)), cx(estAt(t, i, 1)),
+          cx(estAt(t, i, 0)), side + 2, colours[i]);
+      }
+    }
+    if (goals && $("show-targets").checked) drawTargets(t);
     for (let i = 0; i < N; i++) {
       drawRobot(ctx, cx(at(t, i, 1)), cx(at(t, i, 0)), side, colours[i], !alive(t, i));
     }
@@ -453,6 +505,10 @@ SCRIPT = r"""
       c2d.imageSmoothingEnabled = false;
       c2d.drawImage(p.layer.canvas, 0, 0, p.cssW, p.cssH);
       const scale = p.k / p.PS;
+      if (est && $("show-believed").checked && believedShown(t, r)) {
+        drawBelieved(c2d, (at(t, r, 1) + 0.5) * scale, (at(t, r, 0) + 0.5) * scale,
+          (estAt(t, r, 1) + 0.5) * scale, (estAt(t, r, 0) + 0.5) * scale, 9, colours[r]);
+      }
       drawRobot(c2d, (at(t, r, 1) + 0.5) * scale, (at(t, r, 0) + 0.5) * scale, 6, colours[r],
         !alive(t, r));
       p.caption.textContent = "robot " + r + (alive(t, r) ? "" : " (failed)");
@@ -549,6 +605,16 @@ SCRIPT = r"""
     let failed = 0;
     for (let i = 0; i < N; i++) if (!alive(t, i)) failed++;
     $("failed").textContent = String(failed);
+    if (locError) {
+      let sum = 0, max = 0, live = 0;
+      for (let i = 0; i < N; i++) {
+        if (!alive(t, i)) continue;
+        const e = locError[t * N + i] / 10;  // sent in tenths of a cell
+        sum += e; live++; if (e > max) max = e;
+      }
+      $("localisation").textContent = live ? (sum / live).toFixed(1) + " / " + max.toFixed(1)
+        : "-";
+    }
     slider.value = String(t);
   }
 
@@ -601,7 +667,7 @@ SCRIPT = r"""
   }
   playButton.addEventListener("click", () => (state.playing ? pause() : play()));
   slider.addEventListener("input", () => seek(Number(slider.value)));
-  for (const id of ["show-links", "show-targets", "show-trails"]) {
+  for (const id of ["show-links", "show-targets", "show-trails", "show-believed"]) {
     $(id).addEventListener("change", () => render());
   }
   $("show-beliefs").addEventListener("change", () => { layout(); render(); });
@@ -640,7 +706,7 @@ SCRIPT = r"""
   // A link can open the replay at a moment: replay.html#tick=250&beliefs=1&links=0.
   const wish = new URLSearchParams(location.hash.slice(1));
   for (const [key, id] of [["links", "show-links"], ["targets", "show-targets"],
-    ["trails", "show-trails"], ["beliefs", "show-beliefs"]]) {
+    ["trails", "show-trails"], ["beliefs", "show-beliefs"], ["believed", "show-believed"]]) {
     if (wish.has(key) && !$(id).disabled) $(id).checked = wish.get(key) !== "0";
   }
   if (speeds.includes(Number(wish.get("speed")))) speedSelect.value = wish.get("speed");
