@@ -244,6 +244,7 @@ def save_run(
                 credit=grid.credit,
                 alive=record.alive,
                 explorable=record.world.explorable,
+                estimated_positions=arrays.get("estimated_positions"),
             )
         frames = {"max_frames": max_frames} if max_frames is not None else {}
         for wanted, name in ((gif, "gif"), (mp4, "mp4")):
