@@ -66,6 +66,7 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
 
 def execute(spec: RunSpec) -> RunOutcome:
     """Run one scenario; never raises for a failing run (it is recorded as failed)."""
+    from mrexplore.metrics import NOISY_METRICS
     from mrexplore.sim.engine import Simulation
 
     started = time.perf_counter()
@@ -87,6 +88,8 @@ def execute(spec: RunSpec) -> RunOutcome:
         }
         return RunOutcome(spec.run_id, row)
     row = {**base, **metric_columns(result, base), "error": None}
+    for name in NOISY_METRICS:  # one schema for every sweep: null without noise
+        row.setdefault(name, None)
     row["wall_time_s"] = time.perf_counter() - started
     row["mrexplore_version"] = __version__
     curves["run_id"] = [spec.run_id] * len(curves["tick"])
