@@ -44,13 +44,16 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     """The scenario as flat columns named like ``run``'s long options.
 
     ``params`` become ``param_<name>`` columns, ``sharing_params`` ``share_<name>``,
-    ``comm_params`` ``comm_<name>`` (as ``--comm name=value``);
-    ``size`` is ``"WxH"``, ``start`` and ``fail`` are text.
+    ``comm_params`` ``comm_<name>`` (as ``--comm name=value``), ``sensor_params``
+    ``sensor_<name>`` and ``odometry_params`` ``odometry_<name>`` (``--sensor``,
+    ``--odometry``); ``size`` is ``"WxH"``, ``start`` and ``fail`` are text.
     """
     data = scenario.to_dict()
     params = data.pop("params")
     share = data.pop("sharing_params")
     comm = data.pop("comm_params")
+    sensor = data.pop("sensor_params")
+    odometry = data.pop("odometry_params")
     out: dict[str, Any] = {}
     for key, value in data.items():
         if key == "start" and not isinstance(value, str):
@@ -61,6 +64,8 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     out.update({f"param_{k}": _scalar(v) for k, v in params.items()})
     out.update({f"share_{k}": _scalar(v) for k, v in share.items()})
     out.update({f"comm_{k}": _scalar(v) for k, v in comm.items()})
+    out.update({f"sensor_{k}": _scalar(v) for k, v in sensor.items()})
+    out.update({f"odometry_{k}": _scalar(v) for k, v in odometry.items()})
     return out
 
 

@@ -55,6 +55,7 @@ import pyarrow.compute as pc
 from scipy import stats as scipy_stats
 
 from mrexplore.errors import MrexploreInputError
+from mrexplore.sim.noise import ODOMETRY_PARAMS, SENSOR_PARAMS
 from mrexplore.sim.scenario import Scenario
 
 FloatArray = npt.NDArray[np.float64]
@@ -64,12 +65,28 @@ FloatArray = npt.NDArray[np.float64]
 SEED_COLUMN = "seed"
 
 #: Scenario columns: the :class:`~mrexplore.sim.scenario.Scenario` fields under the
-#: CLI's option names, without ``seed`` (:data:`SEED_COLUMN`) and without the three
-#: parameter dictionaries, which the store flattens (:data:`SCENARIO_PREFIXES`).
-SCENARIO_COLUMNS: tuple[str, ...] = tuple(
-    field.name
-    for field in fields(Scenario)
-    if field.name not in (SEED_COLUMN, "params", "sharing_params", "comm_params")
+#: CLI's option names, without ``seed`` (:data:`SEED_COLUMN`) and without the
+#: parameter dictionaries, which the store flattens: the strategy's, the sharing
+#: mechanism's and the comm model's by prefix (:data:`SCENARIO_PREFIXES`), the sensor
+#: and odometry models' as ``sensor_<name>`` and ``odometry_<name>`` for each of their
+#: parameters (listed here: the prefix ``sensor_`` would take in
+#: ``sensor_range_cells``, which ``result.json`` restates).
+SCENARIO_COLUMNS: tuple[str, ...] = (
+    *(
+        field.name
+        for field in fields(Scenario)
+        if field.name
+        not in (
+            SEED_COLUMN,
+            "params",
+            "sharing_params",
+            "comm_params",
+            "sensor_params",
+            "odometry_params",
+        )
+    ),
+    *(f"sensor_{name}" for name in SENSOR_PARAMS),
+    *(f"odometry_{name}" for name in ODOMETRY_PARAMS),
 )
 
 #: Prefixes of flattened scenario parameters: ``param_<name>`` for a strategy

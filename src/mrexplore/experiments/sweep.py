@@ -143,6 +143,10 @@ LATER_FIELDS: dict[str, Any] = {
     "start_delay": 0,
     "comm_model": "network",
     "comm_params": {},
+    "sensor_noise": 0.0,
+    "sensor_params": {},
+    "odometry_noise": 0.0,
+    "odometry_params": {},
 }
 
 
