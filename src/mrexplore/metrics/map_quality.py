@@ -1,10 +1,9 @@
 """Map quality: how much of what the robots believe is true (DESIGN §7).
 
 After Z. Yan, L. Fabresse, J. Laval, N. Bouraqadi, "Metrics for performance
-benchmarking of multi-robot exploration", IEEE/RSJ IROS 2015, who judge an
-exploration by the map it leaves as well as by its time and cost: how complete the
-map is and how many of its cells are wrong. The names follow theirs; the
-definitions below are this module's.
+benchmarking of multi-robot exploration", IEEE/RSJ IROS 2015, whose benchmark
+judges an exploration by the quality of the map it leaves as well as by its time
+and cost. The definitions below are this module's.
 
 A *map* is an ``H x W`` int8 belief (:mod:`mrexplore.grid.occupancy`: ``UNKNOWN =
 -1``, ``FREE = 0``, ``OCCUPIED = 100``); a cell is *known* in it unless it is
@@ -27,10 +26,11 @@ correct fraction    correct / explorable cells                      :class:`MapQ
 ==================  ==============================================  ================
 
 The team map breaks a tie towards ``OCCUPIED``: a robot told that a cell may be a
-wall keeps away from it, which is the safe mistake. With perfect sensing and full
-sharing every robot holds the truth wherever it knows anything, so the error
-fraction is 0 and the correct fraction is the explored fraction; lossy map sharing
-(``polygon``) and imperfect robots (:mod:`mrexplore.sim.noise`) make them differ.
+wall keeps away from it, which is the safe mistake. With perfect sensing and
+localisation, every robot holds the truth wherever it knows anything (with every
+sharing mechanism but ``polygon``), so the error fraction is 0 and the correct
+fraction is the explored fraction; the maps ``polygon`` sharing rebuilds from
+polygons, and imperfect robots (:mod:`mrexplore.sim.noise`), make them differ.
 
 :func:`team_counts` counts the team map's known, wrong and correct cells without
 building it (the simulator calls it every tick of a noisy run, through
@@ -60,7 +60,6 @@ from typing import Any
 import numba
 import numpy as np
 import numpy.typing as npt
-from numba.typed import List as TypedList
 
 from mrexplore.errors import MrexploreInputError
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
@@ -75,6 +74,9 @@ __all__ = [
 ]
 
 Belief = npt.NDArray[np.int8]
+"""One map, ``H x W``."""
+Beliefs = npt.NDArray[np.int8]
+"""The maps of a team, ``N x H x W``."""
 
 
 @dataclass(frozen=True)
@@ -129,26 +131,27 @@ def _map_counts(
 
 @numba.njit(cache=True, nogil=True)
 def _tally_row(
-    beliefs: Any, row: int, free_votes: npt.NDArray[np.int32], occupied_votes: npt.NDArray[np.int32]
+    beliefs: Beliefs,
+    row: int,
+    free_votes: npt.NDArray[np.int32],
+    occupied_votes: npt.NDArray[np.int32],
 ) -> None:  # pragma: no cover - compiled
-    """How many maps hold each cell of ``row`` free, and how many occupied.
-
-    Row by row, so that each map is fetched from the list once per row and no
-    ``H x W`` array is built."""
+    """How many maps of ``beliefs`` (``N x H x W``) hold each cell of ``row`` free, and
+    how many occupied: row by row, so that each map is read in order and no ``H x W``
+    array is built."""
     free_votes[:] = 0
     occupied_votes[:] = 0
     width = free_votes.shape[0]
-    for k in range(len(beliefs)):
-        belief = beliefs[k]
+    for k in range(beliefs.shape[0]):
         for col in range(width):  # branch-free: noisy maps mix the values unpredictably
-            value = belief[row, col]
+            value = beliefs[k, row, col]
             free_votes[col] += value == FREE
             occupied_votes[col] += (value != FREE) & (value != UNKNOWN)
 
 
 @numba.njit(cache=True, nogil=True)
-def _team_map(beliefs: Any, out: Belief) -> None:  # pragma: no cover - compiled
-    """Fill ``out`` with the team map of ``beliefs`` (a typed list of maps)."""
+def _team_map(beliefs: Beliefs, out: Belief) -> None:  # pragma: no cover - compiled
+    """Fill ``out`` with the team map of ``beliefs`` (``N x H x W``)."""
     height, width = out.shape
     free_votes = np.zeros(width, dtype=np.int32)
     occupied_votes = np.zeros(width, dtype=np.int32)
@@ -166,7 +169,7 @@ def _team_map(beliefs: Any, out: Belief) -> None:  # pragma: no cover - compiled
 
 @numba.njit(cache=True, nogil=True)
 def _team_counts(
-    beliefs: Any, truth: npt.NDArray[np.bool_], explorable: npt.NDArray[np.bool_]
+    beliefs: Beliefs, truth: npt.NDArray[np.bool_], explorable: npt.NDArray[np.bool_]
 ) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """``(known, wrong, correct)`` of the team map of ``beliefs``, not built."""
     height, width = truth.shape
@@ -203,8 +206,8 @@ def _grid(name: str, array: npt.ArrayLike, shape: tuple[int, ...] | None) -> npt
     return grid
 
 
-def _beliefs(beliefs: Sequence[Belief] | npt.NDArray[np.int8]) -> list[Belief]:
-    """The maps as C-contiguous int8 grids of one shape (checked)."""
+def _beliefs(beliefs: Sequence[Belief] | Beliefs) -> list[Belief]:
+    """The maps, checked: 2-D int8 grids of one shape."""
     if len(beliefs) == 0:
         raise MrexploreInputError("map quality: no belief maps given (a team has a robot)")
     grids = [_grid(f"belief {i}", belief, None) for i, belief in enumerate(beliefs)]
@@ -218,7 +221,16 @@ def _beliefs(beliefs: Sequence[Belief] | npt.NDArray[np.int8]) -> list[Belief]:
             raise MrexploreInputError(
                 f"map quality: belief {i} has shape {grid.shape}, belief 0 {grids[0].shape}"
             )
-    return [np.ascontiguousarray(grid) for grid in grids]
+    return grids
+
+
+def _stacked(beliefs: Sequence[Belief] | Beliefs) -> Beliefs:
+    """The maps as one C-contiguous ``N x H x W`` array (checked; not copied if it is
+    one already)."""
+    grids = _beliefs(beliefs)
+    if isinstance(beliefs, np.ndarray) and beliefs.flags.c_contiguous:
+        return beliefs
+    return np.stack(grids)
 
 
 def _truth_and_explorable(
@@ -229,7 +241,7 @@ def _truth_and_explorable(
     return truth_grid, explorable_grid
 
 
-def team_map(beliefs: Sequence[Belief] | npt.NDArray[np.int8]) -> Belief:
+def team_map(beliefs: Sequence[Belief] | Beliefs) -> Belief:
     """The team's merged map of the robots' maps ``beliefs`` (each ``H x W`` int8).
 
     A cell is known to the team if any robot's map knows it; its value is the one
@@ -246,9 +258,9 @@ def team_map(beliefs: Sequence[Belief] | npt.NDArray[np.int8]) -> Belief:
         MrexploreInputError: no maps, a map that is not a 2-D int8 grid, or maps of
             different shapes.
     """
-    grids = _beliefs(beliefs)
-    out = np.empty(grids[0].shape, dtype=np.int8)
-    _team_map(TypedList(grids), out)
+    stack = _stacked(beliefs)
+    out = np.empty(stack.shape[1:], dtype=np.int8)
+    _team_map(stack, out)
     return out
 
 
@@ -262,7 +274,7 @@ def map_quality(belief: Belief, truth: npt.ArrayLike, explorable: npt.ArrayLike)
         MrexploreInputError: ``belief`` is not a 2-D int8 grid, or a grid's shape
             differs from the belief's.
     """
-    (grid,) = _beliefs([belief])
+    grid = np.ascontiguousarray(_beliefs([belief])[0])
     truth_grid, explorable_grid = _truth_and_explorable(truth, explorable, grid.shape)
     known, wrong, correct = _map_counts(grid, truth_grid, explorable_grid)
     return MapQuality(int(known), int(wrong), int(correct), int(np.count_nonzero(explorable_grid)))
@@ -271,58 +283,56 @@ def map_quality(belief: Belief, truth: npt.ArrayLike, explorable: npt.ArrayLike)
 class TeamCounter:
     """:func:`team_counts` of the same maps, read again at every call.
 
-    The maps are checked and gathered once; each :meth:`count` reads them as they
-    are then (the simulator updates the robots' beliefs in place), so a run pays
-    one pass over the robots' cells per tick and nothing else.
+    The maps, the truth and the explorable cells are checked once; each
+    :meth:`count` reads the maps as they are then (the simulator updates the robots'
+    beliefs in place). It copies them into one ``N x H x W`` array it keeps (a
+    kernel reads one array faster, and a numba list of arrays costs a fraction of a
+    second to set up in every process), so a call costs about two passes over the
+    robots' cells.
     """
 
     def __init__(
         self,
-        beliefs: Sequence[Belief] | npt.NDArray[np.int8],
+        beliefs: Sequence[Belief] | Beliefs,
         truth: npt.ArrayLike,
         explorable: npt.ArrayLike,
     ) -> None:
         grids = _beliefs(beliefs)
-        if any(
-            not np.shares_memory(grid, given) for grid, given in zip(grids, beliefs, strict=True)
-        ):
-            raise MrexploreInputError(
-                "TeamCounter: the belief maps must be C-contiguous int8 arrays (a copy "
-                "would not see their later changes)"
-            )
-        self.beliefs = tuple(beliefs)
+        self.beliefs: tuple[Belief, ...] = tuple(beliefs)
         """The maps counted, as given."""
-        self._grids = TypedList(grids)
+        self._stack = np.empty((len(grids), *grids[0].shape), dtype=np.int8)
         self._truth, self._explorable = _truth_and_explorable(truth, explorable, grids[0].shape)
 
     def count(self) -> tuple[int, int, int]:
         """``(known, wrong, correct)`` of the team map of the maps as they are now."""
-        known, wrong, correct = _team_counts(self._grids, self._truth, self._explorable)
+        np.stack(self.beliefs, out=self._stack)
+        known, wrong, correct = _team_counts(self._stack, self._truth, self._explorable)
         return int(known), int(wrong), int(correct)
 
 
 def team_counts(
-    beliefs: Sequence[Belief] | npt.NDArray[np.int8],
+    beliefs: Sequence[Belief] | Beliefs,
     truth: npt.ArrayLike,
     explorable: npt.ArrayLike,
 ) -> tuple[int, int, int]:
     """``(known, wrong, correct)`` of :func:`team_map` of ``beliefs``, without building it.
 
-    Equal to ``map_quality(team_map(beliefs), truth, explorable)``'s counts; one pass
-    over the robots' cells and no ``H x W`` array.
+    Equal to ``map_quality(team_map(beliefs), truth, explorable)``'s counts, in one
+    pass over the robots' cells (``beliefs`` as one C-contiguous ``N x H x W`` array
+    is not copied).
 
     Raises:
         MrexploreInputError: as :func:`team_map`, or a grid whose shape differs from
             the maps'.
     """
-    grids = _beliefs(beliefs)
-    truth_grid, explorable_grid = _truth_and_explorable(truth, explorable, grids[0].shape)
-    known, wrong, correct = _team_counts(TypedList(grids), truth_grid, explorable_grid)
+    stack = _stacked(beliefs)
+    truth_grid, explorable_grid = _truth_and_explorable(truth, explorable, stack.shape[1:])
+    known, wrong, correct = _team_counts(stack, truth_grid, explorable_grid)
     return int(known), int(wrong), int(correct)
 
 
 def map_quality_metrics(
-    beliefs: Sequence[Belief] | npt.NDArray[np.int8],
+    beliefs: Sequence[Belief] | Beliefs,
     truth: npt.ArrayLike,
     explorable: npt.ArrayLike,
 ) -> dict[str, Any]:
@@ -332,10 +342,10 @@ def map_quality_metrics(
     correct fractions; ``map_error_by_robot`` and ``map_correct_by_robot`` each
     robot's own, in id order.
     """
-    grids = _beliefs(beliefs)
-    truth_grid, explorable_grid = _truth_and_explorable(truth, explorable, grids[0].shape)
-    team = map_quality(team_map(grids), truth_grid, explorable_grid)
-    robots = [map_quality(grid, truth_grid, explorable_grid) for grid in grids]
+    stack = _stacked(beliefs)
+    truth_grid, explorable_grid = _truth_and_explorable(truth, explorable, stack.shape[1:])
+    team = map_quality(team_map(stack), truth_grid, explorable_grid)
+    robots = [map_quality(grid, truth_grid, explorable_grid) for grid in stack]
     return {
         "map_error_fraction": team.error_fraction,
         "map_correct_fraction": team.correct_fraction,
