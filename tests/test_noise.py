@@ -85,7 +85,13 @@ def test_repeated_readings_fuse_as_clamped_log_odds() -> None:
     """A robot standing still reads its disk every tick; its log-odds equal a
     reference binary Bayes filter run on the same draws of its sensor stream."""
     scenario = Scenario(
-        map="office", size=(30, 30), robots=1, sensor_range=5, sensor_noise=0.3, seed=4, idle_ticks=50
+        map="office",
+        size=(30, 30),
+        robots=1,
+        sensor_range=5,
+        sensor_noise=0.3,
+        seed=4,
+        idle_ticks=50,
     )
     sim = Simulation(scenario)
     model = sensor_model(0.3, {})

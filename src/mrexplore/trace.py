@@ -8,38 +8,51 @@ them. This module is the format both sides share and needs nothing but numpy.
 from; ``result.json`` beside it holds the scenario and the metrics
 (:meth:`mrexplore.sim.RunRecord.result`):
 
-================  ==================  ==============================================
-array             shape, dtype        meaning
-================  ==================  ==============================================
-truth             H x W uint8         1 = occupied
-explorable        H x W bool          free cells reachable from the start cells
-positions         T+1 x N x 2 int32   row, col of each robot at each tick
-first_known       H x W int32         first tick any robot knew the cell, -1 never
-alive             T+1 x N bool        robot alive at the end of the tick
-distance          T+1 x N float64     cumulative path length travelled (cells)
-goals             T+1 x N x 2 int32   each robot's goal after the tick, -1 none
-sense_count       H x W uint16        how many robots sensed the cell
-sensed_by_robot   N int64             cells each robot sensed itself
-known_explorable  T+1 int64           explorable cells known to the team
-robot_complete    N int32             first tick robot i's own belief held every
-                                      explorable cell, -1 never
-coverage          T+1 float64         known_explorable / explorable cells
-bytes_per_tick    T+1 int64           bytes sent at each tick
-bytes_by_robot    N int64             bytes sent by each robot
-subnetworks       T+1 int64           number of sub-networks at each tick
-group_diameter    T+1 float64         largest distance between two robots (cells)
-sensor_range      () float64          sensor radius in cells
-speed             () float64          cells of path per tick
-component         T+1 x N int16       sub-network of each robot during the tick, -1
-                                      failed (optional)
-link_bits         T+1 x B uint8       direct links during the tick, packed (optional)
-robot_first_known N x H x W int32     first tick robot i knew the cell, -1 never
-                                      (optional)
-================  ==================  ==============================================
+===================  ==================  ==============================================
+array                shape, dtype        meaning
+===================  ==================  ==============================================
+truth                H x W uint8         1 = occupied
+explorable           H x W bool          free cells reachable from the start cells
+positions            T+1 x N x 2 int32   row, col of each robot at each tick
+first_known          H x W int32         first tick any robot knew the cell, -1 never
+alive                T+1 x N bool        robot alive at the end of the tick
+distance             T+1 x N float64     cumulative path length travelled (cells)
+goals                T+1 x N x 2 int32   each robot's goal after the tick, -1 none
+sense_count          H x W uint16        how many robots sensed the cell
+sensed_by_robot      N int64             cells each robot sensed itself
+known_explorable     T+1 int64           explorable cells known to the team
+robot_complete       N int32             first tick robot i's own belief held every
+                                         explorable cell, -1 never
+coverage             T+1 float64         known_explorable / explorable cells
+bytes_per_tick       T+1 int64           bytes sent at each tick
+bytes_by_robot       N int64             bytes sent by each robot
+subnetworks          T+1 int64           number of sub-networks at each tick
+group_diameter       T+1 float64         largest distance between two robots (cells)
+sensor_range         () float64          sensor radius in cells
+speed                () float64          cells of path per tick
+component            T+1 x N int16       sub-network of each robot during the tick, -1
+                                         failed (optional)
+link_bits            T+1 x B uint8       direct links during the tick, packed (optional)
+robot_first_known    N x H x W int32     first tick robot i knew the cell, -1 never
+                                         (optional)
+map_known            T+1 int64           cells the team map knows (noisy runs)
+map_wrong            T+1 int64           cells of the team map that disagree with the
+                                         truth (noisy runs)
+correct_known        T+1 int64           explorable cells the team map holds free
+                                         (noisy runs)
+correct_coverage     T+1 float64         correct_known / explorable cells (noisy runs)
+estimated_positions  T+1 x N x 2 int32   row, col of the cell each robot believes it is
+                                         on at the end of the tick (noisy runs)
+localisation_error   T+1 x N float64     cells from each robot's estimated position to
+                                         its cell, 0 without odometry drift (noisy runs)
+robot_belief         N x H x W int8      each robot's belief at the end of the run
+                                         (noisy runs)
+===================  ==================  ==============================================
 
-The last three arrays feed the animations and the HTML replay (:mod:`mrexplore.viz`);
-traces written before they existed lack them (and ``robot_complete``), and every
-reader treats them as optional (:func:`load_trace` loads any ``trace.npz``).
+``component``, ``link_bits`` and ``robot_first_known`` feed the animations and the
+HTML replay (:mod:`mrexplore.viz`); traces written before they existed lack them (and
+``robot_complete`` and the arrays of noisy runs), and every reader treats them as
+optional (:func:`load_trace` loads any ``trace.npz``).
 
 * ``component[t, i]`` is the index of robot ``i``'s sub-network in the list of
   connected components of the link graph in force during tick ``t`` (components
@@ -56,6 +69,13 @@ reader treats them as optional (:func:`load_trace` loads any ``trace.npz``).
   asked (``Simulation(..., record_beliefs=True)``, ``mrexplore run
   --belief-panels``) or, by default, when ``N H W <=``
   :data:`mrexplore.sim.record.BELIEF_CELLS_AUTO`.
+
+The arrays marked "noisy runs" are written only when the scenario has sensor noise or
+odometry drift (``Scenario.noisy``), so that a run without noise leaves the same
+trace as before noise existed. The *team map* is the robots' beliefs merged: a cell
+is known if any robot knows it, with the value most of the robots that know it hold,
+occupied on a tie (:func:`mrexplore.metrics.map_quality.team_map`); every robot
+counts, a failed one with the belief it had when it stopped.
 """
 
 from __future__ import annotations
@@ -71,7 +91,19 @@ import numpy.typing as npt
 REQUIRED_TRACE_ARRAYS = ("truth", "first_known", "positions")
 
 #: Arrays that traces written by older versions lack.
-OPTIONAL_TRACE_ARRAYS = ("component", "link_bits", "robot_first_known", "robot_complete")
+OPTIONAL_TRACE_ARRAYS = (
+    "component",
+    "link_bits",
+    "robot_first_known",
+    "robot_complete",
+    "map_known",
+    "map_wrong",
+    "correct_known",
+    "correct_coverage",
+    "estimated_positions",
+    "localisation_error",
+    "robot_belief",
+)
 
 
 def n_link_pairs(n_robots: int) -> int:

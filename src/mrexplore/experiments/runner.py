@@ -45,9 +45,8 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
 
     ``params`` become ``param_<name>`` columns, ``sharing_params`` ``share_<name>``,
     ``comm_params`` ``comm_<name>`` (as ``--comm name=value``), ``sensor_params``
-    ``sensor_param_<name>`` and ``odometry_params`` ``odometry_param_<name>``
-    (``--sensor``, ``--odometry``);
-    ``size`` is ``"WxH"``, ``start`` and ``fail`` are text.
+    ``sensor_<name>`` and ``odometry_params`` ``odometry_<name>`` (``--sensor``,
+    ``--odometry``); ``size`` is ``"WxH"``, ``start`` and ``fail`` are text.
     """
     data = scenario.to_dict()
     params = data.pop("params")
@@ -65,13 +64,14 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     out.update({f"param_{k}": _scalar(v) for k, v in params.items()})
     out.update({f"share_{k}": _scalar(v) for k, v in share.items()})
     out.update({f"comm_{k}": _scalar(v) for k, v in comm.items()})
-    out.update({f"sensor_param_{k}": _scalar(v) for k, v in sensor.items()})
-    out.update({f"odometry_param_{k}": _scalar(v) for k, v in odometry.items()})
+    out.update({f"sensor_{k}": _scalar(v) for k, v in sensor.items()})
+    out.update({f"odometry_{k}": _scalar(v) for k, v in odometry.items()})
     return out
 
 
 def execute(spec: RunSpec) -> RunOutcome:
     """Run one scenario; never raises for a failing run (it is recorded as failed)."""
+    from mrexplore.metrics import NOISY_METRICS
     from mrexplore.sim.engine import Simulation
 
     started = time.perf_counter()
@@ -93,6 +93,8 @@ def execute(spec: RunSpec) -> RunOutcome:
         }
         return RunOutcome(spec.run_id, row)
     row = {**base, **metric_columns(result, base), "error": None}
+    for name in NOISY_METRICS:  # one schema for every sweep: null without noise
+        row.setdefault(name, None)
     row["wall_time_s"] = time.perf_counter() - started
     row["mrexplore_version"] = __version__
     curves["run_id"] = [spec.run_id] * len(curves["tick"])

@@ -55,6 +55,7 @@ import pyarrow.compute as pc
 from scipy import stats as scipy_stats
 
 from mrexplore.errors import MrexploreInputError
+from mrexplore.sim.noise import ODOMETRY_PARAMS, SENSOR_PARAMS
 from mrexplore.sim.scenario import Scenario
 
 FloatArray = npt.NDArray[np.float64]
@@ -65,27 +66,35 @@ SEED_COLUMN = "seed"
 
 #: Scenario columns: the :class:`~mrexplore.sim.scenario.Scenario` fields under the
 #: CLI's option names, without ``seed`` (:data:`SEED_COLUMN`) and without the
-#: parameter dictionaries, which the store flattens (:data:`SCENARIO_PREFIXES`).
-SCENARIO_COLUMNS: tuple[str, ...] = tuple(
-    field.name
-    for field in fields(Scenario)
-    if field.name not in (SEED_COLUMN, "params", "sharing_params", "comm_params")
-    and not field.name.endswith("_params")
+#: parameter dictionaries, which the store flattens: the strategy's, the sharing
+#: mechanism's and the comm model's by prefix (:data:`SCENARIO_PREFIXES`), the sensor
+#: and odometry models' as ``sensor_<name>`` and ``odometry_<name>`` for each of their
+#: parameters (listed here: the prefix ``sensor_`` would take in
+#: ``sensor_range_cells``, which ``result.json`` restates).
+SCENARIO_COLUMNS: tuple[str, ...] = (
+    *(
+        field.name
+        for field in fields(Scenario)
+        if field.name
+        not in (
+            SEED_COLUMN,
+            "params",
+            "sharing_params",
+            "comm_params",
+            "sensor_params",
+            "odometry_params",
+        )
+    ),
+    *(f"sensor_{name}" for name in SENSOR_PARAMS),
+    *(f"odometry_{name}" for name in ODOMETRY_PARAMS),
 )
 
 #: Prefixes of flattened scenario parameters: ``param_<name>`` for a strategy
 #: parameter (``--set name=value``), ``share_<name>`` for a parameter of the
 #: map-sharing mechanism (``--share name=value``), ``comm_<name>`` for one of the
 #: communication model (``--comm name=value``; ``comm_range`` and ``comm_los`` are
-#: scenario columns anyway); ``sensor_param_<name>`` and ``odometry_param_<name>`` for the noise
-#: models' details (``--sensor``, ``--odometry``).
-SCENARIO_PREFIXES: tuple[str, ...] = (
-    "param_",
-    "share_",
-    "comm_",
-    "sensor_param_",
-    "odometry_param_",
-)
+#: scenario columns anyway).
+SCENARIO_PREFIXES: tuple[str, ...] = ("param_", "share_", "comm_")
 
 #: Columns that describe a run but are not outcomes to compare: ids, provenance,
 #: machine-dependent timings, the limits in force, and scenario or map values

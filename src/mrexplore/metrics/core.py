@@ -12,7 +12,20 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from mrexplore.metrics.map_quality import map_quality_metrics
 from mrexplore.metrics.regions import final_epv, final_wtv
+
+NOISY_METRICS = (
+    "T90_correct",
+    "T99_correct",
+    "T100_correct",
+    "localisation_error_mean",
+    "localisation_error_max",
+    "localisation_error_final",
+)
+"""Keys of ``result.json`` that only a noisy run has (:func:`summarize` computes them
+from the arrays a noisy run's trace adds); the results store gives every run these
+columns, null without noise."""
 
 
 def coverage_curve(
@@ -42,11 +55,42 @@ def group_diameter(positions: npt.NDArray[np.int32]) -> npt.NDArray[np.float64]:
     return np.sqrt((diff**2).sum(axis=-1)).max(axis=(1, 2))
 
 
+def localisation_metrics(
+    localisation_error: npt.NDArray[np.float64], alive: npt.NDArray[np.bool_]
+) -> dict[str, float]:
+    """How far the robots' position estimates were from where they were (cells).
+
+    ``localisation_error`` and ``alive`` are ``T+1 x N`` (the trace's arrays).
+    ``localisation_error_mean`` and ``localisation_error_max`` are over every tick
+    and every robot alive at it; ``localisation_error_final`` is the mean over the
+    robots alive at the last tick (over every robot when none is). All are 0.0
+    without a live robot.
+
+    >>> error = np.array([[0.0, 0.0], [1.0, 3.0], [2.0, 9.0]])
+    >>> alive = np.array([[True, True], [True, True], [True, False]])
+    >>> localisation_metrics(error, alive)  # robot 1 failed at tick 2
+    {'localisation_error_mean': 1.2, 'localisation_error_max': 3.0, 'localisation_error_final': 2.0}
+    """
+    error = np.asarray(localisation_error, dtype=np.float64)
+    live = np.asarray(alive, dtype=bool)
+    seen = error[live]
+    last = error[-1][live[-1]] if live[-1].any() else error[-1]
+    return {
+        "localisation_error_mean": float(seen.mean()) if seen.size else 0.0,
+        "localisation_error_max": float(seen.max()) if seen.size else 0.0,
+        "localisation_error_final": float(last.mean()) if last.size else 0.0,
+    }
+
+
 def summarize(trace: dict[str, Any]) -> dict[str, Any]:
     """The metrics of ``result.json`` from the trace arrays.
 
     Needs ``positions``, ``first_known``, ``explorable``, ``distance``,
-    ``sense_count`` and ``alive``.
+    ``sense_count`` and ``alive``. The arrays of a noisy run add map quality:
+    ``correct_coverage`` gives ``T90_correct``, ``T99_correct`` and ``T100_correct``
+    (as ``T90``... of ``coverage``), ``localisation_error`` the
+    :func:`localisation_metrics`, and ``robot_belief`` (with ``truth``) the
+    :func:`~mrexplore.metrics.map_quality.map_quality_metrics`.
     """
     positions = trace["positions"]
     n_ticks = positions.shape[0]
@@ -82,6 +126,18 @@ def summarize(trace: dict[str, Any]) -> dict[str, Any]:
         mean = cells.mean()
         metrics["sensed_cells_per_robot"] = [int(c) for c in cells]
         metrics["coverage_spread"] = float(cells.std() / mean) if mean > 0 else 0.0
+    robot_belief = trace.get("robot_belief")
+    if robot_belief is not None:  # noisy runs: the robots' final maps
+        metrics.update(map_quality_metrics(robot_belief, trace["truth"], explorable))
+    correct_coverage = trace.get("correct_coverage")
+    if correct_coverage is not None:  # noisy runs: coverage counted on correct cells only
+        correct_curve = np.asarray(correct_coverage, dtype=np.float64)
+        metrics["T90_correct"] = time_to_fraction(correct_curve, 0.90)
+        metrics["T99_correct"] = time_to_fraction(correct_curve, 0.99)
+        metrics["T100_correct"] = time_to_fraction(correct_curve, 1.0)
+    localisation_error = trace.get("localisation_error")
+    if localisation_error is not None:
+        metrics.update(localisation_metrics(localisation_error, trace["alive"]))
     return metrics
 
 

@@ -37,8 +37,9 @@ FIXED_BYTES = 50 * 10**6
 #: occupant (int32), first_known (int32), sense_count (uint16) and the trace's uint8
 #: copy of the truth.
 MAP_BYTES_PER_CELL = 1 + 1 + 1 + 4 + 4 + 2 + 1
-#: Every robot's belief (int8) and ``sensed`` mask (bool).
-ROBOT_BYTES_PER_CELL = 1 + 1
+#: Every robot's belief (int8) and ``sensed`` mask (bool), and the copy of its final
+#: belief in the run record (int8, for the map-quality metrics).
+ROBOT_BYTES_PER_CELL = 1 + 1 + 1
 #: ``robot_first_known`` (int32 per robot and cell), when the run records it.
 RECORDED_BELIEF_BYTES_PER_CELL = 4
 #: The copy of each belief kept to find changed cells (int8), when ``robot_first_known``
@@ -151,7 +152,7 @@ def estimate_run_bytes(
 
         total = 50 MB                                     modules, numba kernels
               + C x 14                                    truth, occupancy, stamps
-              + C x N x (2 + 4 [recorded beliefs] + 1 [shadow]
+              + C x N x (3 + 4 [recorded beliefs] + 1 [shadow]
                          + 23 [zlot-market] or 8 [kme] + 1 [polygon])
               + C x 12 [polygon sharing]
               + C x max(26, 150)                          a distance field; metrics

@@ -156,6 +156,7 @@ class Simulation:
             stamps=self.stamps,
             end=self.end,
             comm_range_cells=comm_range,
+            odometry=self.odometry,
         )
         self.n_explorable = self.world.n_explorable
         self.max_ticks = self.end.max_ticks

@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mrexplore import __version__
-from mrexplore.metrics import group_diameter, json_safe, summarize
+from mrexplore.metrics import group_diameter, json_safe, map_quality_metrics, summarize
 from mrexplore.sim.scenario import Scenario
 from mrexplore.sim.world import World
 from mrexplore.trace import (
@@ -148,6 +148,20 @@ class RunRecord:
     """Decide calls that computed at least one distance field (benchmarks only)."""
     fields: int = 0
     """Distance fields computed inside decide calls (benchmarks only)."""
+    final_beliefs: npt.NDArray[np.int8] | None = None
+    """``N x H x W``: each robot's belief at the end of the run (the map-quality keys
+    of ``result.json``; the trace's ``robot_belief`` in a noisy run)."""
+    map_known: npt.NDArray[np.int64] | None = None
+    """``T+1``: cells the team map knows at each tick (noisy runs)."""
+    map_wrong: npt.NDArray[np.int64] | None = None
+    """``T+1``: cells of the team map that disagree with the truth (noisy runs)."""
+    correct_known: npt.NDArray[np.int64] | None = None
+    """``T+1``: explorable cells the team map holds free (noisy runs)."""
+    estimated_positions: npt.NDArray[np.int32] | None = None
+    """``T+1 x N x 2``: the cell each robot believes it is on (noisy runs)."""
+    localisation_error: npt.NDArray[np.float64] | None = None
+    """``T+1 x N``: cells from each robot's estimated position to its cell (noisy
+    runs; zeros without odometry drift)."""
     _trace: dict[str, np.ndarray] | None = field(default=None, init=False, repr=False)
 
     def trace_arrays(self) -> dict[str, np.ndarray]:
@@ -177,11 +191,38 @@ class RunRecord:
             "sensor_range": np.array(self.world.sensor_range_cells, dtype=np.float64),
             "speed": np.array(self.scenario.speed, dtype=np.float64),
         }
+        optional = self._optional_trace_arrays()
         for name in OPTIONAL_TRACE_ARRAYS:
-            value = getattr(self, name)
+            value = optional[name]
             if value is not None:
                 arrays[name] = value
         return arrays
+
+    def _optional_trace_arrays(self) -> dict[str, np.ndarray | None]:
+        """Each of :data:`OPTIONAL_TRACE_ARRAYS`, ``None`` where this run has none.
+
+        The map-quality arrays are written only for a noisy run (``scenario.noisy``),
+        so that a run without noise leaves the trace it left before noise existed.
+        """
+        noisy = self.scenario.noisy
+        correct_coverage = (
+            None
+            if self.correct_known is None
+            else self.correct_known / max(self.world.n_explorable, 1)
+        )
+        return {
+            "component": self.component,
+            "link_bits": self.link_bits,
+            "robot_first_known": self.robot_first_known,
+            "robot_complete": self.robot_complete,
+            "map_known": self.map_known,
+            "map_wrong": self.map_wrong,
+            "correct_known": self.correct_known,
+            "correct_coverage": correct_coverage,
+            "estimated_positions": self.estimated_positions,
+            "localisation_error": self.localisation_error,
+            "robot_belief": self.final_beliefs if noisy else None,
+        }
 
     def result(self) -> dict[str, Any]:
         """The content of ``result.json``: scenario, map, metrics, provenance."""
@@ -208,7 +249,13 @@ class RunRecord:
         if self.scenario.start_delay > 0:  # each robot's first live tick (None: never)
             awake = np.asarray(self.alive, dtype=bool)
             out["start_ticks"] = [int(np.argmax(c)) if c.any() else None for c in awake.T]
-        out.update(summarize(self.trace_arrays()))
+        metrics = summarize(self.trace_arrays())
+        if "map_error_fraction" not in metrics and self.final_beliefs is not None:
+            # a run without noise: the final maps are not in the trace, but are in hand
+            metrics.update(
+                map_quality_metrics(self.final_beliefs, grid.occupied, self.world.explorable)
+            )
+        out.update(metrics)
         out.update(
             {
                 "bytes_total": int(sum(self.bytes_by_type.values())),
