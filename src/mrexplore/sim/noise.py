@@ -20,10 +20,15 @@ prior 0.5, so ``l0 = 0``), with the inverse sensor model the error rates imply:
 
 clamped to ``[logit(clamp_free), logit(clamp_occupied)]``. Strategies see the usual
 free / occupied / unknown belief: occupied above ``logit(occupied_above)``, free
-below ``logit(free_below)``, unknown between (and where the robot has no reading).
-The clamp (0.12, 0.97) and the threshold 0.5 are OctoMap's defaults (Hornung et
-al. 2013), the most used implementation of this filter; with them a single reading
-decides a cell, and a cell read wrongly is put right by later readings.
+below ``logit(free_below)``, unknown between (and where the robot has no reading):
+the more probable state, so a single reading decides a new cell.
+
+The filter of table 9.1 has no clamp, and the worlds here are static, so the default
+clamp (1e-6, 1 - 1e-6, log-odds +-13.8) only bounds the numbers: evidence adds up as
+the book's filter adds it. OctoMap's clamp (0.12, 0.97; Hornung et al. 2013), meant
+for worlds that change, is one ``--sensor clamp_free=0.12 --sensor
+clamp_occupied=0.97`` away; with this inverse model it is narrower than one reading
+(log(0.9 / 0.1) = 2.2 at 10 % errors), so a cell is only as right as its last reading.
 
 A robot knows that the cell it stands on is free. Its own readings override what
 teammates told it about a cell, as perfect sensing does.
@@ -96,18 +101,18 @@ SENSOR_PARAMS: dict[str, Param[Any]] = {
         low=0.0,
     ),
     "clamp_free": Param(
-        0.12,
+        1e-6,
         help="lowest occupancy probability a cell's log-odds can reach",
-        note="OctoMap's default",
+        note="a bound for the numbers only (the world is static); OctoMap clamps at 0.12",
         low=0.0,
         high=0.5,
         low_open=True,
         high_open=True,
     ),
     "clamp_occupied": Param(
-        0.97,
+        1 - 1e-6,
         help="highest occupancy probability a cell's log-odds can reach",
-        note="OctoMap's default",
+        note="a bound for the numbers only (the world is static); OctoMap clamps at 0.97",
         low=0.5,
         high=1.0,
         low_open=True,
@@ -116,7 +121,7 @@ SENSOR_PARAMS: dict[str, Param[Any]] = {
     "occupied_above": Param(
         0.5,
         help="occupancy probability above which a cell is occupied",
-        note="OctoMap's default",
+        note="the more probable state (OctoMap's default too)",
         low=0.0,
         high=1.0,
         low_open=True,
@@ -125,7 +130,7 @@ SENSOR_PARAMS: dict[str, Param[Any]] = {
     "free_below": Param(
         0.5,
         help="occupancy probability below which a cell is free",
-        note="OctoMap's default",
+        note="the more probable state (OctoMap's default too)",
         low=0.0,
         high=1.0,
         low_open=True,
