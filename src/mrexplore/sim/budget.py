@@ -58,6 +58,12 @@ STRATEGY_ROBOT_BYTES_PER_CELL = {"zlot-market": 23, "kme": 8}
 #: Per-sharing state: ``polygon`` keeps each robot's own map (int8) and a shared linked
 #: list head (int64) and label buffer (int32) per cell.
 SHARING_ROBOT_BYTES_PER_CELL = {"polygon": 1}
+#: Per robot and cell in a noisy run (:mod:`mrexplore.sim.noise`): the log-odds
+#: (float32), the cells it sensed in the world and the team counter's copy of its
+#: belief (its final belief in the trace is the run record's copy, counted above).
+NOISY_ROBOT_BYTES_PER_CELL = 4 + 1 + 1
+#: Per tick and robot in a noisy run: estimated positions and localisation errors.
+NOISY_TICK_BYTES_PER_ROBOT = 8 + 8
 SHARING_BYTES_PER_CELL = {"polygon": 8 + 4}
 #: The per-tick logs (positions, alive, distance, goals: four small arrays, the known
 #: count and list slots, measured 880 B) ...
@@ -145,6 +151,7 @@ def estimate_run_bytes(
     record_beliefs: bool = False,
     ticks: int = 1,
     linked_share: float = 1.0,
+    noisy: bool = False,
 ) -> MemoryEstimate:
     """Bytes a run of ``n_robots`` on an ``H x W`` grid needs at its peak.
 
@@ -153,11 +160,12 @@ def estimate_run_bytes(
         total = 50 MB                                     modules, numba kernels
               + C x 14                                    truth, occupancy, stamps
               + C x N x (3 + 4 [recorded beliefs] + 1 [shadow]
-                         + 23 [zlot-market] or 8 [kme] + 1 [polygon])
+                         + 23 [zlot-market] or 8 [kme] + 1 [polygon] + 6 [noisy])
               + C x 12 [polygon sharing]
               + C x max(26, 150)                          a distance field; metrics
               + P x (84 + 520 x linked_share)             links, P = N (N - 1) / 2
-              + T x (880 + 54 N + 40 N^2 [N >= 2] + N^2 / 16)   per-tick trace
+              + T x (880 + 54 N + 40 N^2 [N >= 2] + N^2 / 16 + 16 N [noisy])
+                                                                per-tick trace
 
     ``linked_share`` is the share of robot pairs within communication range (1 for
     an unlimited range).
@@ -188,9 +196,11 @@ def estimate_run_bytes(
             per_robot += BELIEF_SHADOW_BYTES_PER_CELL
     per_robot += STRATEGY_ROBOT_BYTES_PER_CELL.get(strategy, 0)
     per_robot += SHARING_ROBOT_BYTES_PER_CELL.get(sharing, 0)
+    if noisy:
+        per_robot += NOISY_ROBOT_BYTES_PER_CELL
     per_tick = (
         TICK_BYTES
-        + TICK_BYTES_PER_ROBOT * n
+        + (TICK_BYTES_PER_ROBOT + (NOISY_TICK_BYTES_PER_ROBOT if noisy else 0)) * n
         + (TICK_BYTES_PER_ROBOT_PAIR * n * n if n >= 2 else 0)
         + TICK_BITS_PER_ROBOT_PAIR * n * (n - 1) // 16
     )

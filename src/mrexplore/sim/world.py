@@ -178,6 +178,7 @@ def _check_memory(
         record_beliefs=record_beliefs,
         ticks=ticks,
         linked_share=linked_share,
+        noisy=scenario.noisy,
     )
     budget.check_run_memory(what, estimate, scenario.robots, advice)
 
