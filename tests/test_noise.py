@@ -295,3 +295,31 @@ def test_noise_options_reach_result_json(tmp_path) -> None:
     result = json.loads((out / "result.json").read_text())
     assert result["sensor_noise"] == 0.05 and result["odometry_noise"] == 0.02
     assert result["odometry_params"] == {"reset": "meeting"}
+
+
+def test_the_trace_checker_accepts_noisy_runs_and_still_catches_far_cells() -> None:
+    from mrexplore.checks import check_trace
+    from mrexplore.metrics import json_safe
+
+    scenario = Scenario(
+        map="office",
+        size=(40, 40),
+        robots=3,
+        seed=3,
+        sensor_noise=0.1,
+        odometry_noise=0.05,
+        odometry_params={"heading_deg": 1.0, "reset": "meeting"},
+    )
+    record = Simulation(scenario).run()
+    trace, result = record.trace_arrays(), json_safe(record.result())
+    assert (trace["localisation_error"] > 0).any()
+    assert check_trace(trace, result) == []
+    # a cell stamped at tick 1 far from every robot is still a violation
+    far = dict(trace)
+    far["first_known"] = trace["first_known"].copy()
+    rows, cols = np.nonzero(trace["first_known"] < 0)
+    start = trace["positions"][1]
+    distance = np.hypot(rows[:, None] - start[:, 0], cols[:, None] - start[:, 1]).min(axis=1)
+    k = int(np.argmax(distance))
+    far["first_known"][rows[k], cols[k]] = 1
+    assert any("out of every robot's sight" in p for p in check_trace(far))

@@ -76,6 +76,18 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
         octile = np.abs(steps).max(axis=2) + (SQRT2 - 1) * np.abs(steps).min(axis=2)
         if (increments < octile - 1e-9).any():
             problems.append("recorded distance is shorter than the moves")
+    # With odometry drift a robot writes what it sees at its estimated pose (turned by
+    # its heading error): only the reach of its sensor around the cell it believes it
+    # is on can be checked, R plus the rounding of the estimate and of each cell.
+    estimated = (
+        np.asarray(trace["estimated_positions"]) if "estimated_positions" in trace else positions
+    )
+    drift = (
+        np.asarray(trace["localisation_error"]) > 0
+        if "localisation_error" in trace
+        else np.zeros(positions.shape[:2], dtype=bool)
+    )
+    grid_rows, grid_cols = np.ogrid[:height, :width]
     for tick in np.unique(first_known[first_known >= 0]):
         known = first_known == tick
         seen = np.zeros_like(known)
@@ -83,6 +95,13 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
             if alive is not None and not alive[tick, robot]:
                 continue
             cell = (int(positions[tick, robot, 0]), int(positions[tick, robot, 1]))
+            believed = (int(estimated[tick, robot, 0]), int(estimated[tick, robot, 1]))
+            if believed != cell or drift[tick, robot]:
+                reach = radius + SQRT2
+                seen |= (grid_rows - believed[0]) ** 2 + (grid_cols - believed[1]) ** 2 <= (
+                    reach * reach
+                )
+                continue
             vis_rows, vis_cols = visible_cells(truth, cell, radius)
             seen[vis_rows, vis_cols] = True
         if (known & ~seen).any():
