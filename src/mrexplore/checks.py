@@ -97,7 +97,7 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
             cell = (int(positions[tick, robot, 0]), int(positions[tick, robot, 1]))
             believed = (int(estimated[tick, robot, 0]), int(estimated[tick, robot, 1]))
             if believed != cell or drift[tick, robot]:
-                reach = radius + SQRT2
+                sight = radius + SQRT2
                 seen |= (grid_rows - believed[0]) ** 2 + (grid_cols - believed[1]) ** 2 <= (
                     reach * reach
                 )
