@@ -99,7 +99,7 @@ def check_trace(trace: Mapping[str, Any], result: Mapping[str, Any] | None = Non
             if believed != cell or drift[tick, robot]:
                 sight = radius + SQRT2
                 seen |= (grid_rows - believed[0]) ** 2 + (grid_cols - believed[1]) ** 2 <= (
-                    reach * reach
+                    sight * sight
                 )
                 continue
             vis_rows, vis_cols = visible_cells(truth, cell, radius)
