@@ -182,11 +182,6 @@ class SensorModel:
         """Whether any reading can be wrong."""
         return self.false_occupied > 0 or self.false_free > 0
 
-    def error_rates(self, r: float, sensor_range: float) -> tuple[float, float]:
-        """``(false_occupied, false_free)`` for a cell at distance ``r``."""
-        growth = 1.0 + self.range_growth * r / max(sensor_range, 1e-12)
-        return self.false_occupied * growth, self.false_free * growth
-
 
 @dataclass(frozen=True)
 class OdometryModel:
