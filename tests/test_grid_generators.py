@@ -176,6 +176,45 @@ def test_largest_free_component_breaks_ties_by_lowest_label() -> None:
     assert not largest_free_component(np.ones((3, 3), dtype=bool)).any()
 
 
+@settings(max_examples=200, deadline=None)
+@given(
+    height=st.integers(min_value=0, max_value=40),
+    width=st.integers(min_value=0, max_value=40),
+    occupied_share=st.floats(min_value=0.0, max_value=1.0),
+    seed=st.integers(min_value=0, max_value=2**32),
+)
+def test_label_free_matches_scipy_label_for_label(
+    height: int, width: int, occupied_share: float, seed: int
+) -> None:
+    from scipy import ndimage
+
+    occupied = np.random.default_rng(seed).random((height, width)) < occupied_share
+    labels, count = label_free(occupied)
+    expected, expected_count = ndimage.label(~occupied, structure=components_module.FOUR_CONNECTED)
+    assert count == expected_count
+    np.testing.assert_array_equal(labels, expected)
+    assert labels.dtype == np.int32
+
+
+def test_label_free_on_checkerboards_views_and_other_dtypes() -> None:
+    from scipy import ndimage
+
+    checkerboard = (np.indices((31, 33)).sum(axis=0) % 2).astype(bool)
+    labels, count = label_free(checkerboard)
+    assert count == np.count_nonzero(~checkerboard)  # every free cell alone: the most labels
+    for occupied in (
+        ~checkerboard,
+        checkerboard[::2, ::3],  # a strided view
+        np.asfortranarray(checkerboard[:, :20]),
+        checkerboard.astype(np.uint8) * 7,  # truthy = occupied
+    ):
+        labels, count = label_free(occupied)
+        free = ~np.asarray(occupied, dtype=bool)
+        expected, expected_count = ndimage.label(free, structure=components_module.FOUR_CONNECTED)
+        assert count == expected_count
+        np.testing.assert_array_equal(labels, expected)
+
+
 def test_diagonal_neighbours_are_not_connected() -> None:
     occupied = np.array([[0, 1], [1, 0]], dtype=bool)
     assert largest_free_component(occupied).sum() == 1

@@ -85,6 +85,35 @@ def test_lazy_entries_are_imported_on_first_use() -> None:
     assert things.get("pi") == pytest.approx(3.14159265)
 
 
+def test_a_lazy_entry_keeps_its_place_and_its_object_may_be_registered_again() -> None:
+    things: Registry[object] = Registry("thing")
+    things.register_lazy("pi", "math:pi")
+    things.register(_Thing)
+    things.register_lazy("e", "math:e")
+    assert list(things) == ["pi", "thing", "e"]
+    assert things.get("e") == pytest.approx(2.71828183)
+    assert list(things) == ["pi", "thing", "e"]  # imported: still where it was registered
+    import math
+
+    things.register(math.pi, id="pi")  # the lazy entry's own object: harmless
+    with pytest.raises(RegistryError, match="already taken"):
+        things.register(3.0, id="pi")
+    things.unregister("pi")
+    assert list(things) == ["thing", "e"] and len(things) == 2
+
+
+def test_built_in_strategies_are_registered_lazily_under_their_own_ids() -> None:
+    import mrexplore.strategies as strategies
+
+    for name, (module, class_name) in strategies.BUILT_IN.items():
+        cls = getattr(strategies, class_name)  # the package still exports every class
+        assert cls.__module__ == f"mrexplore.strategies.{module}"
+        assert cls.id == name and STRATEGIES.get(name) is cls
+    assert set(strategies.BUILT_IN) <= set(STRATEGIES)
+    with pytest.raises(AttributeError, match="no attribute 'Nope'"):
+        strategies.Nope  # noqa: B018 (the attribute lookup is the test)
+
+
 def test_plugins_load_once_per_group_and_a_broken_one_is_skipped(
     monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
 ) -> None:

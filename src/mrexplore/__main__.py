@@ -1,7 +1,5 @@
 """``python -m mrexplore`` runs the command-line interface."""
 
-import sys
+from mrexplore.cli import console_main
 
-from mrexplore.cli import main
-
-sys.exit(main())
+console_main()

@@ -3,6 +3,9 @@
 Strategies, communication models, map-sharing mechanisms, map generators, sweep
 engines and reproductions are each held in a :class:`Registry`: built-ins register
 when their module is imported (``@REGISTRY.register`` or ``REGISTRY.register(obj)``),
+or by reference when their module is slow to import and a run needs only one of them
+(``REGISTRY.register_lazy(id, "module:attribute")``: the strategies, the sharing
+mechanisms in modules of their own, the reproductions), imported on first lookup;
 third-party packages through an entry-point group, loaded the first time an id is
 missing or the registry is listed (as Gymnasium's ``register``/``make`` and
 networkx's backends). Registries, with their entry-point groups and what an entry
@@ -115,6 +118,7 @@ class Registry(Generic[T]):
         self._params_of = params_of
         self._objects: dict[str, T] = {}
         self._lazy: dict[str, str] = {}
+        self._order: dict[str, None] = {}  # every id, in registration order (lazy or not)
         self._lazy_summaries: dict[str, str] = {}
         self._plugin_of: dict[str, str] = {}
         self._plugins_loaded = False
@@ -137,12 +141,13 @@ class Registry(Generic[T]):
         name = id or self._id_of(obj)
         if not name:
             raise RegistryError(f"{self.kind} {obj!r} has no id")
+        if name in self._lazy:  # import it: registering the same object again is harmless
+            self._resolve(name)
         existing = self._objects.get(name)
         if existing is not None and existing is not obj:
             raise RegistryError(f"{self.kind} id {name!r} is already taken by {_name(existing)}")
-        if existing is None and name in self._lazy:
-            raise RegistryError(f"{self.kind} id {name!r} is already taken by {self._lazy[name]}")
         self._objects[name] = obj
+        self._order[name] = None
         return obj
 
     def register_lazy(self, name: str, reference: str, summary: str = "") -> None:
@@ -152,11 +157,13 @@ class Registry(Generic[T]):
             raise RegistryError(f"{self.kind} id {name!r} is already taken")
         self._lazy[name] = reference
         self._lazy_summaries[name] = summary
+        self._order[name] = None
 
     def unregister(self, name: str) -> None:
         """Remove ``name`` (for tests that register a throw-away object)."""
         if self._objects.pop(name, None) is None and self._lazy.pop(name, None) is None:
             raise UnknownIdError(self.kind, name, self.ids())
+        self._order.pop(name, None)
         self._plugin_of.pop(name, None)
 
     # ------------------------------------------------------------------ plugins
@@ -189,6 +196,7 @@ class Registry(Generic[T]):
         (for tests, or after installing a package in a running interpreter)."""
         for name in self._plugin_of:
             self._objects.pop(name, None)
+            self._order.pop(name, None)
         self._plugin_of.clear()
         self._plugins_loaded = False
 
@@ -227,11 +235,11 @@ class Registry(Generic[T]):
 
     def __iter__(self) -> Iterator[str]:
         self.load_plugins()
-        return iter([*self._objects, *self._lazy])
+        return iter(list(self._order))  # a lazy entry keeps its place once imported
 
     def __len__(self) -> int:
         self.load_plugins()
-        return len(self._objects) + len(self._lazy)
+        return len(self._order)
 
     def ids(self) -> list[str]:
         """Every id, sorted (built-ins and plugins)."""

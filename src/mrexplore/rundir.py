@@ -79,9 +79,11 @@ def check_out_dir(out: str | Path, *, option: str = "out_dir") -> None:
 def check_ffmpeg(mp4: bool) -> None:
     """Raise :class:`~mrexplore.errors.MrexploreInputError` if an MP4 is wanted but no
     encoder is found (:func:`mrexplore.viz.ffmpeg_path`)."""
+    if not mp4:
+        return
     from mrexplore.viz.animate import FFMPEG_MISSING, ffmpeg_path
 
-    if mp4 and ffmpeg_path() is None:
+    if ffmpeg_path() is None:
         raise MrexploreInputError(FFMPEG_MISSING)
 
 

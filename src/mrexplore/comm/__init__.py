@@ -53,8 +53,6 @@ __all__ = [
     "make_sharing",
 ]
 
-from mrexplore.comm.polygon import PolygonSharing  # registers after sharing
-from mrexplore.comm.sheng_sync import ShengSync  # registers after sharing
-
-SHARING.register(ShengSync)
-SHARING.register(PolygonSharing)
+# Mechanisms in modules of their own, imported on first use (a run imports only its own).
+SHARING.register_lazy("sheng-sync", "mrexplore.comm.sheng_sync:ShengSync")
+SHARING.register_lazy("polygon", "mrexplore.comm.polygon:PolygonSharing")

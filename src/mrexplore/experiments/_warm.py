@@ -17,11 +17,18 @@ logger = logging.getLogger(__name__)
 
 def warm() -> None:
     """Run a few ticks of small scenarios covering the common kernels."""
+    from mrexplore.comm import SHARING
     from mrexplore.experiments import runner  # noqa: F401 - imported to be inherited
     from mrexplore.metrics import regions  # noqa: F401 - imported to be inherited
     from mrexplore.sim import Scenario
     from mrexplore.sim.engine import Simulation
+    from mrexplore.strategies import BUILT_IN
+    from mrexplore.strategies.registry import STRATEGIES
 
+    # Registered lazily (a single run imports only its own): import them all here.
+    for name in BUILT_IN:
+        STRATEGIES.get(name)
+    SHARING.get("polygon")
     for strategy, sharing in (
         ("nearest-frontier", None),
         ("random-frontier", "sheng-sync"),

@@ -13,22 +13,81 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+import numba
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
 
-from mrexplore.errors import ScenarioError
+from mrexplore.errors import MrexploreInputError, ScenarioError
 
 BoolGrid = npt.NDArray[np.bool_]
 
-#: 4-connectivity structuring element for :func:`scipy.ndimage.label`.
+#: 4-connectivity structuring element, for :func:`scipy.ndimage.label` (which
+#: :func:`label_free` matches label for label; the tests compare them).
 FOUR_CONNECTED: npt.NDArray[np.bool_] = np.array(
     [[False, True, False], [True, True, True], [False, True, False]]
 )
 
 
+@numba.njit(cache=True, nogil=True)
+def _root(parent: npt.NDArray[np.int32], label: int) -> int:
+    """The root of ``label`` in the union-find forest ``parent`` (halving the path)."""
+    while parent[label] != label:
+        parent[label] = parent[parent[label]]
+        label = parent[label]
+    return label
+
+
+@numba.njit(cache=True, nogil=True)
+def _label_free_kernel(
+    occupied: npt.NDArray[np.bool_], labels: npt.NDArray[np.int32], parent: npt.NDArray[np.int32]
+) -> int:
+    """Fill ``labels`` (zeros on entry) and return the number of components.
+
+    Two passes: the first gives each free cell its upper or left neighbour's
+    provisional label (a new one when both are occupied) and joins the two
+    labels' sets when they differ; the second renumbers the sets ``1..count`` in
+    raster order of their first cell. ``parent`` has room for every provisional
+    label (at most ``H * W // 2 + 1``, a checkerboard).
+    """
+    height, width = occupied.shape
+    provisional = 0
+    for row in range(height):
+        for col in range(width):
+            if occupied[row, col]:
+                continue
+            up = labels[row - 1, col] if row > 0 else 0
+            left = labels[row, col - 1] if col > 0 else 0
+            if up == 0 and left == 0:
+                provisional += 1
+                parent[provisional] = provisional
+                labels[row, col] = provisional
+            elif up == 0:
+                labels[row, col] = left
+            else:
+                labels[row, col] = up
+                if left != 0 and left != up:
+                    up_root, left_root = _root(parent, up), _root(parent, left)
+                    parent[max(up_root, left_root)] = min(up_root, left_root)
+    final = np.zeros(provisional + 1, dtype=np.int32)
+    count = 0
+    for row in range(height):
+        for col in range(width):
+            if labels[row, col] == 0:
+                continue
+            root = _root(parent, labels[row, col])
+            if final[root] == 0:
+                count += 1
+                final[root] = count
+            labels[row, col] = final[root]
+    return count
+
+
 def label_free(occupied: npt.ArrayLike) -> tuple[npt.NDArray[np.int32], int]:
     """Label the 4-connected free components.
+
+    The same labels as ``scipy.ndimage.label(free, structure=FOUR_CONNECTED)``, by a
+    compiled two-pass union-find about as fast as scipy's (importing scipy.ndimage
+    would cost a run of a small map more time than the simulation itself).
 
     Args:
         occupied: ``H x W`` array, truthy = occupied.
@@ -37,10 +96,18 @@ def label_free(occupied: npt.ArrayLike) -> tuple[npt.NDArray[np.int32], int]:
         ``(labels, count)``: ``labels`` is an ``H x W`` ``int32`` array, 0 on
         occupied cells and ``1..count`` on free cells; labels are numbered in
         raster order of each component's first cell.
+
+    >>> labels, count = label_free(np.array([[0, 1, 0], [1, 1, 0], [0, 0, 1]]))
+    >>> labels.tolist(), count
+    ([[1, 0, 2], [0, 0, 2], [3, 3, 0]], 3)
     """
-    free = ~np.asarray(occupied, dtype=bool)
-    labels, count = ndimage.label(free, structure=FOUR_CONNECTED)
-    return labels.astype(np.int32, copy=False), int(count)
+    grid = np.ascontiguousarray(occupied, dtype=bool)
+    if grid.ndim != 2:
+        raise MrexploreInputError(f"occupied has shape {grid.shape}; a grid is 2-D")
+    labels = np.zeros(grid.shape, dtype=np.int32)
+    parent = np.empty(grid.size // 2 + 2, dtype=np.int32)
+    count = _label_free_kernel(grid, labels, parent)
+    return labels, int(count)
 
 
 def largest_free_component(occupied: npt.ArrayLike) -> BoolGrid:

@@ -48,8 +48,6 @@ from typing import Any, BinaryIO, TypeGuard
 
 import numpy as np
 import numpy.typing as npt
-import yaml
-from PIL import Image
 
 from mrexplore.errors import MapFileError, ScenarioError
 from mrexplore.grid.catalogue import MAP_SUFFIXES, credit_for_file
@@ -339,6 +337,8 @@ def read_pgm(path: str | os.PathLike[str]) -> npt.NDArray[np.uint8 | np.uint16]:
 
 def _read_pillow(path: Path) -> tuple[npt.NDArray[np.uint32], int, int]:
     """Read a PNG or BMP as ``(channel_sum, channel_count, maxval)``; alpha is ignored."""
+    from PIL import Image  # here: a run on a generated map reads no image
+
     try:
         with warnings.catch_warnings():
             # We apply our own limit (MAX_CELLS) before decoding; Pillow's warning
@@ -527,6 +527,8 @@ def _resolve_image(yaml_path: Path, image: str) -> Path:
 
 
 def _load_ros(path: Path) -> GridMap:
+    import yaml  # here: a run on a generated map reads no YAML
+
     text = _read_text(path)
     try:
         doc = yaml.safe_load(text)
@@ -1040,6 +1042,8 @@ def write_map(grid_map: GridMap, yaml_path: str | os.PathLike[str]) -> Path:
         comments.append(f"# Credit: {_one_line(grid_map.credit, 300)}")
     if resolution is None:
         comments.append("# The source map has no resolution: 1.0 m/cell is a placeholder.")
+    import yaml  # here, as in _load_ros
+
     text = "\n".join(comments) + "\n" + yaml.safe_dump(fields, sort_keys=False)
     try:
         yaml_file.parent.mkdir(parents=True, exist_ok=True)

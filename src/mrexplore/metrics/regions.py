@@ -82,7 +82,6 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.spatial import cKDTree
 
 from mrexplore.errors import MrexploreInputError
 
@@ -340,6 +339,8 @@ def _closest_robot_distance(
         return np.zeros(0, dtype=np.float64)
     robot_rc = robots.astype(np.float64)
     if len(robot_rc) > _BRUTE_FORCE_MAX_ROBOTS:
+        from scipy.spatial import cKDTree  # here: teams this large are rare, the import slow
+
         cells = np.column_stack((rows, cols)).astype(np.float64)
         distance, _ = cKDTree(robot_rc).query(cells)
         return np.asarray(distance, dtype=np.float64)

@@ -1,10 +1,10 @@
 """The strategy registry: ids (part of the public contract) to classes.
 
-Built-in strategies register here (``mrexplore.strategies`` registers them on
-import); third-party packages add theirs through the entry-point group
-``mrexplore.strategies`` (each entry point names a
-:class:`~mrexplore.strategies.base.Strategy` subclass), loaded on the first lookup
-of an id that is not built in, or on the first listing. :data:`STRATEGIES` is a
+Built-in strategies register here (``mrexplore.strategies`` registers them lazily:
+a strategy's module is imported on the first lookup of its id); third-party packages
+add theirs through the entry-point group ``mrexplore.strategies`` (each entry point
+names a :class:`~mrexplore.strategies.base.Strategy` subclass), loaded on the first
+lookup of an id that is not built in, or on the first listing. :data:`STRATEGIES` is a
 :class:`mrexplore.registry.Registry`; the functions below are its historical names.
 """
 
