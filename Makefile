@@ -54,9 +54,11 @@ browser-deps:
 test-slow: install
 	OMP_NUM_THREADS=1 $(BIN)/pytest -q -m slow -n auto
 
-# Scenarios S1-S6 and the scaling table; appends to benchmarks/RESULTS.md.
+# Scenarios S1-S6 and the scaling table (appended to benchmarks/RESULTS.md), then every
+# strategy against nearest-frontier on Intel, limited range, and in robots and map side.
 bench: install
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/bench_suite.py --scaling --record
+	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/bench_strategies.py --limited --scaling --timeout 600
 
 clean:
 	rm -rf $(VENV) build *.egg-info src/*.egg-info .pytest_cache .mypy_cache .ruff_cache

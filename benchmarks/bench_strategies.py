@@ -1,0 +1,132 @@
+"""Every strategy on one scenario, as ratios to nearest-frontier measured in the same run.
+
+    python benchmarks/bench_strategies.py [--quick] [--limited] [--scaling]
+                                          [--only kme burgard] [--timeout SECONDS]
+
+The scenario of issue 20: the Intel lab at its native 0.05 m cells, 8 robots, sensor
+range 40 cells, unlimited communication, seed 1. ``--limited`` adds the variant with
+a 10 m communication range (each strategy with its own sharing, ``sheng-sync`` where
+that is ``full``). ``--scaling`` adds a table in robots (4, 16, 64 on a 500 x 500
+office) and map side (250, 500, 1000, 2000; 8 robots) for every strategy. ``--quick``
+pools Intel to 0.2 m cells and the scaling maps to a quarter of their side, for a
+check that the script works, not for numbers.
+
+Each run is one ``mrexplore run`` in a fresh process (imports and the numba cache
+load included: what a user waits for); the table gives the wall time of that
+command, the run's ticks, ``decide_ms_per_plan`` from its ``result.json``, and the
+ratio of the wall time to nearest-frontier's in the same invocation. A run over
+``--timeout`` is stopped and shown as such.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+BASELINE = "nearest-frontier"
+
+
+def strategy_ids() -> list[str]:
+    sys.path.insert(0, str(ROOT / "src"))
+    from mrexplore.strategies.registry import available_strategies
+
+    return sorted(available_strategies())
+
+
+def own_sharing(strategy: str) -> list[str]:
+    """``--sharing sheng-sync`` for a strategy whose own sharing is ``full``, else none."""
+    sys.path.insert(0, str(ROOT / "src"))
+    from mrexplore.strategies.registry import get_strategy
+
+    return ["--sharing", "sheng-sync"] if get_strategy(strategy).default_sharing == "full" else []
+
+
+def run_once(args: list[str], timeout: float) -> dict[str, Any]:
+    """Wall seconds of ``mrexplore run ARGS`` and its result.json (empty on a timeout)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "run"
+        command = [sys.executable, "-m", "mrexplore", "run", *args, "--out", str(out)]
+        env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+        started = time.perf_counter()
+        try:
+            subprocess.run(command, check=True, timeout=timeout, capture_output=True, env=env)
+        except subprocess.TimeoutExpired:
+            return {"wall": None}
+        wall = time.perf_counter() - started
+        result = json.loads((out / "result.json").read_text())
+    return {"wall": wall, **result}
+
+
+def table(
+    title: str, base: list[str], strategies: list[str], timeout: float, *, limited: bool = False
+) -> list[str]:
+    rows = {
+        s: run_once([*base, "--strategy", s, *(own_sharing(s) if limited else [])], timeout)
+        for s in strategies
+    }
+    floor = rows.get(BASELINE, {}).get("wall")
+    lines = [
+        f"### {title}",
+        "",
+        f"`mrexplore run {' '.join(base)} --strategy ID`",
+        "",
+        "| strategy | wall s | ticks | ms per plan | x nearest-frontier |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for strategy, row in sorted(rows.items(), key=lambda item: item[1].get("wall") or 1e99):
+        wall = row.get("wall")
+        if wall is None:
+            lines.append(f"| {strategy} | > {timeout:g} (stopped) | - | - | - |")
+            continue
+        ratio = f"{wall / floor:.1f}" if floor else "-"
+        lines.append(
+            f"| {strategy} | {wall:.1f} | {row['ticks']} | {row['decide_ms_per_plan']:.2f} "
+            f"| {ratio} |"
+        )
+    return [*lines, ""]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--limited", action="store_true")
+    parser.add_argument("--scaling", action="store_true")
+    parser.add_argument("--only", nargs="+", default=None)
+    parser.add_argument("--timeout", type=float, default=600.0)
+    args = parser.parse_args(argv)
+    strategies = args.only or strategy_ids()
+    if BASELINE not in strategies:
+        strategies = [BASELINE, *strategies]
+    intel = ["--map", "intel", "--robots", "8", "--seed", "1"]
+    intel += (
+        ["--cell-size", "0.2", "--sensor-range", "10"] if args.quick else ["--sensor-range", "40"]
+    )
+
+    lines = table("Intel, 8 robots, unlimited communication", intel, strategies, args.timeout)
+    if args.limited:
+        limited = [*intel, "--comm-range", "10m"]
+        title = "Intel, 8 robots, 10 m range (sheng-sync where the strategy shares in full)"
+        lines += table(title, limited, strategies, args.timeout, limited=True)
+    if args.scaling:
+        side = 125 if args.quick else 500
+        for robots in (4, 16, 64):
+            base = ["--map", "office", "--size", f"{side}x{side}", "--robots", str(robots)]
+            lines += table(f"office {side}, {robots} robots", base, strategies, args.timeout)
+        for full_side in (250, 500, 1000, 2000):
+            side = full_side // 4 if args.quick else full_side
+            base = ["--map", "office", "--size", f"{side}x{side}", "--robots", "8"]
+            lines += table(f"office {side}, 8 robots", base, strategies, args.timeout)
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
