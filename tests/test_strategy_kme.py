@@ -16,6 +16,7 @@ from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.kme import (
     Kme,
     assign_regions,
+    cells_of,
     choose_target,
     contour_cells,
     frontier_subset,
@@ -23,8 +24,10 @@ from mrexplore.strategies.kme import (
     kme_round,
     kmeans,
     map_diagonal,
+    nearest_centroid,
     nearest_inaccessible_contour,
     partition_unknown,
+    robot_fields,
     robot_region_distances,
     target_distance,
 )
@@ -127,6 +130,44 @@ def test_contour_cells_are_unknown_cells_on_a_region_edge() -> None:
     assert {(1, 3), (2, 2), (3, 2)} <= cells
     assert (3, 3) not in cells and (2, 3) not in cells
     assert all(labels[r, c] == g for r, c, g in zip(rows, cols, region, strict=True))
+
+
+def test_contour_cells_match_the_whole_map_shift_comparison() -> None:
+    """The compiled pass gives what comparing the edge-padded labels with their four
+    shifts gives (raster order, same arrays)."""
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        labels = rng.integers(-1, 3, size=(9, 13)).astype(np.int16)
+        padded = np.pad(labels, 1, mode="edge")
+        edge = np.zeros(labels.shape, dtype=bool)
+        for d_row, d_col in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+            edge |= padded[1 + d_row : 10 + d_row, 1 + d_col : 14 + d_col] != labels
+        rows, cols = np.nonzero(edge & (labels >= 0))
+        expected = [rows.tolist(), cols.tolist(), labels[rows, cols].tolist()]
+        assert [a.tolist() for a in contour_cells(labels)] == expected
+
+
+def test_fast_paths_give_what_the_plain_numpy_gives() -> None:
+    """cells_of is np.nonzero; robot_fields is distance_field with frontier targets (a
+    source on a wall included); partition_unknown labels by nearest_centroid."""
+    rng = np.random.default_rng(5)
+    for _ in range(10):
+        belief = rng.choice(np.array([U, F, X], dtype=np.int8), size=(17, 23), p=[0.3, 0.6, 0.1])
+        frontier = frontier_mask(belief)
+        expected = [a.tolist() for a in np.nonzero(frontier)]
+        assert [a.tolist() for a in cells_of(frontier)] == expected
+        free = belief == F
+        sources = [(int(rng.integers(17)), int(rng.integers(23))) for _ in range(3)]
+        fields = robot_fields(free, sources, frontier)
+        for source, got in zip(sources, fields, strict=True):
+            assert np.array_equal(got, distance_field(free, source, targets=frontier))
+        labels, centroids = partition_unknown(
+            belief, 3, np.random.default_rng(1), None, max_points=50, max_iterations=5
+        )
+        rows, cols = np.nonzero(belief == U)
+        cells = np.stack([rows, cols], axis=1).astype(np.float64)
+        assert (labels[belief != U] == -1).all()
+        assert np.array_equal(labels[rows, cols], nearest_centroid(cells, centroids))
 
 
 # ---------------------------------------------------------------- eqs. (4)-(5)
