@@ -31,11 +31,11 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
 BASELINE = "nearest-frontier"
 
 
 def strategy_ids() -> list[str]:
-    sys.path.insert(0, str(ROOT / "src"))
     from mrexplore.strategies.registry import available_strategies
 
     return sorted(available_strategies())
@@ -43,7 +43,6 @@ def strategy_ids() -> list[str]:
 
 def own_sharing(strategy: str) -> list[str]:
     """``--sharing sheng-sync`` for a strategy whose own sharing is ``full``, else none."""
-    sys.path.insert(0, str(ROOT / "src"))
     from mrexplore.strategies.registry import get_strategy
 
     return ["--sharing", "sheng-sync"] if get_strategy(strategy).default_sharing == "full" else []

@@ -4,6 +4,7 @@ both noises on; and noise-free runs left as they were."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -27,7 +28,7 @@ def _first_readings(scenario: Scenario, seeds: range) -> tuple[np.ndarray, np.nd
     (one reading: the belief is the reading) and distance to the robot."""
     truths, beliefs, ranges = [], [], []
     for seed in seeds:
-        sim = Simulation(Scenario(**{**scenario.__dict__, "seed": seed}))
+        sim = Simulation(dataclasses.replace(scenario, seed=seed))
         sim.start()
         robot = sim.robots[0]
         visible = sim.sensing._visible(robot)
@@ -226,12 +227,10 @@ def test_a_robot_that_believes_a_wall_elsewhere_bumps_into_it_and_learns() -> No
 
 def test_without_noise_the_noise_settings_change_nothing() -> None:
     base = Scenario(map="office", size=(40, 40), robots=3, strategy="burgard", seed=5)
-    quiet = Scenario(
-        **{
-            **base.__dict__,
-            "sensor_params": {"range_growth": 1.0, "clamp_occupied": 0.9},
-            "odometry_params": {"reset": "meeting"},
-        }
+    quiet = dataclasses.replace(
+        base,
+        sensor_params={"range_growth": 1.0, "clamp_occupied": 0.9},
+        odometry_params={"reset": "meeting"},
     )
     assert not quiet.noisy
     a, b = Simulation(base).run(), Simulation(quiet).run()

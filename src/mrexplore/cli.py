@@ -493,13 +493,10 @@ def _scenario_from_args(args: argparse.Namespace) -> Any:
 
 def _noise_params(option: str, items: list[str]) -> dict[str, Any]:
     """``--sensor`` / ``--odometry`` pairs, converted and checked by their models."""
-    from mrexplore.params import resolve_params
-    from mrexplore.sim.noise import ODOMETRY_PARAMS, SENSOR_PARAMS
+    from mrexplore.sim.noise import resolve_details
 
     given = _pairs(option, items)
-    declared = SENSOR_PARAMS if option == "--sensor" else ODOMETRY_PARAMS
-    owner = "the sensor model" if option == "--sensor" else "the odometry model"
-    resolved = resolve_params(declared, given, owner=owner, option=option)
+    resolved = resolve_details(option, given)
     return {key: resolved[key] for key in given}  # typed
 
 

@@ -74,6 +74,7 @@ __all__ = [
     "SensorModel",
     "check_noise",
     "odometry_model",
+    "resolve_details",
     "sensor_model",
 ]
 
@@ -157,6 +158,20 @@ ODOMETRY_PARAMS: dict[str, Param[Any]] = {
 """The odometry model's parameters (``--odometry key=value``)."""
 
 
+#: Each details option: its parameters and what takes them, as messages name it.
+DETAILS = {
+    "--sensor": (SENSOR_PARAMS, "the sensor model"),
+    "--odometry": (ODOMETRY_PARAMS, "the odometry model"),
+}
+
+
+def resolve_details(option: str, given: Mapping[str, Any]) -> dict[str, Any]:
+    """Every parameter of ``option`` (``--sensor`` or ``--odometry``): the defaults
+    overridden by ``given``, converted and checked."""
+    declared, owner = DETAILS[option]
+    return resolve_params(declared, given, owner=owner, option=option)
+
+
 def _logit(p: float) -> float:
     return math.log(p / (1.0 - p))
 
@@ -205,7 +220,7 @@ def sensor_model(sensor_noise: float, params: Mapping[str, Any]) -> SensorModel:
         ScenarioError: an unknown or out-of-range parameter, or error rates that
             reach 0.5 within the sensor range (a reading would tell nothing).
     """
-    p = resolve_params(SENSOR_PARAMS, params, owner="the sensor model", option="--sensor")
+    p = resolve_details("--sensor", params)
     false_occupied = sensor_noise if p["false_occupied"] < 0 else p["false_occupied"]
     false_free = sensor_noise if p["false_free"] < 0 else p["false_free"]
     for name, rate in (("false_occupied", false_occupied), ("false_free", false_free)):
@@ -233,7 +248,7 @@ def sensor_model(sensor_noise: float, params: Mapping[str, Any]) -> SensorModel:
 
 def odometry_model(odometry_noise: float, params: Mapping[str, Any]) -> OdometryModel:
     """The odometry model of ``--odometry-noise`` and ``--odometry`` (checked)."""
-    p = resolve_params(ODOMETRY_PARAMS, params, owner="the odometry model", option="--odometry")
+    p = resolve_details("--odometry", params)
     return OdometryModel(
         position=float(odometry_noise), heading=math.radians(p["heading_deg"]), reset=p["reset"]
     )
@@ -303,7 +318,6 @@ def noisy_sense_kernel(
     values: npt.NDArray[np.int8],
     was_unknown: npt.NDArray[np.bool_],
     robot_known: npt.NDArray[np.int32],
-    readings: npt.NDArray[np.int64],
 ) -> tuple[int, int, int]:  # pragma: no cover - compiled
     """One robot's noisy sensing of the flat world cells ``visible`` (each once).
 
@@ -312,9 +326,7 @@ def noisy_sense_kernel(
     it sees (its offset from the true cell, turned by the heading error, from the
     estimated position), fused as log-odds and thresholded. The robot's believed
     cell is set free first. ``listed`` and ``call`` keep a belief cell from being
-    listed twice in one call. ``readings`` counts, per (truth, reading), the
-    readings taken: ``[free read free, free read occupied, occupied read free,
-    occupied read occupied]``.
+    listed twice in one call.
 
     Returns ``(changed cells, listed cells, newly known explorable cells)``; the
     listed cells (their value changed, or the robot read them for the first time,
@@ -340,13 +352,9 @@ def noisy_sense_kernel(
             r = math.sqrt(d_row * d_row + d_col * d_col)
             growth = 1.0 + range_growth * r / sensor_range
             if truth == OCCUPIED:
-                wrong = draws[k] < false_free * growth
-                readings[2 + (0 if wrong else 1)] += 1
-                read_occupied = not wrong
+                read_occupied = not draws[k] < false_free * growth
             else:
-                wrong = draws[k] < false_occupied * growth
-                readings[1 if wrong else 0] += 1
-                read_occupied = wrong
+                read_occupied = draws[k] < false_occupied * growth
             b_row = math.floor(est_row + cos_h * d_row - sin_h * d_col + 0.5)
             b_col = math.floor(est_col + sin_h * d_row + cos_h * d_col + 0.5)
             if b_row < 0 or b_col < 0 or b_row >= height or b_col >= width:

@@ -135,9 +135,6 @@ class Sensing:
             self._world_sensed = [np.zeros(n_cells, dtype=np.bool_) for _ in robots]
             self._listed = np.zeros(n_cells, dtype=np.int64)
             self._calls = 0
-            self.readings = np.zeros(4, dtype=np.int64)
-            """Readings taken: free read free, free read occupied, occupied read free,
-            occupied read occupied."""
 
     def sense(self, tick: int) -> None:
         """Every live robot that senses at ``tick`` observes its disk (in id order)."""
@@ -237,7 +234,6 @@ class Sensing:
             values,
             was_unknown,
             self.stamps.sensed_cells(robot.id),
-            self.readings,
         )
         robot.new_cells += changed
         if n_listed == 0:
