@@ -240,10 +240,22 @@ def make_comm_model(
 
 @dataclass(eq=False)
 class _Packet:
+    """A message on its way: who it is for, who has it, who will have it.
+
+    ``uncovered`` is kept equal to ``destinations - reached - pending`` (the
+    destinations no transmission has reached or is bringing yet), so that the
+    relay tests of a broadcast intersect it instead of re-deriving it from the
+    three sets at every reception.
+    """
+
     message: Message
     destinations: frozenset[int]
     reached: set[int] = field(default_factory=set)
     pending: set[int] = field(default_factory=set)
+    uncovered: set[int] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.uncovered = set(self.destinations).difference(self.reached, self.pending)
 
 
 @dataclass(eq=False)
@@ -388,11 +400,7 @@ class Network(CommModel):
         self.queue_delays.append(tick - transmission.queued_tick)
         neighbours = self._neighbours.get(transmitter, set())
         if message.is_broadcast:
-            receivers = sorted(
-                neighbours.intersection(packet.destinations).difference(
-                    packet.reached, packet.pending
-                )
-            )
+            receivers = sorted(neighbours.intersection(packet.uncovered))
         else:
             hop = self._next_hop(transmitter, message.dest)
             if hop is None:
@@ -410,6 +418,7 @@ class Network(CommModel):
                     self.ledger.record_lost(message)
                 continue
             packet.pending.add(receiver)
+            packet.uncovered.discard(receiver)
             self._arrivals[arrival].append((packet, receiver, transmitter))
 
     def _link_losses(
@@ -450,6 +459,8 @@ class Network(CommModel):
             if receiver not in self._alive:
                 if receiver in packet.destinations:
                     self.ledger.record_lost(message)
+                    if receiver not in packet.reached and receiver not in packet.pending:
+                        packet.uncovered.add(receiver)
                 continue
             if receiver in packet.reached:
                 continue
@@ -458,9 +469,7 @@ class Network(CommModel):
                 inbox[receiver].append(message)
                 neighbours = self._neighbours.get(receiver)
                 # neighbours still to reach (set operations run in C)
-                if neighbours and neighbours.intersection(packet.destinations).difference(
-                    packet.reached, packet.pending
-                ):
+                if neighbours and not neighbours.isdisjoint(packet.uncovered):
                     self._enqueue(_Transmission(packet, receiver, message.size_bytes, tick))
             elif receiver == message.dest:
                 inbox[receiver].append(message)
