@@ -278,6 +278,7 @@ class RunRecord:
                 "wall_time_s": self.wall_time_s,
                 "decisions": self.decisions,
                 "plans": self.plans,
+                "distance_fields": self.fields,
                 "decide_ms_per_plan": 1000 * self.decide_seconds / max(self.plans, 1),
             }
         )
