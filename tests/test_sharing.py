@@ -137,3 +137,32 @@ def test_sheng_sync_counts_table_4_volumes_with_and_without_tracking() -> None:
     assert metrics["sync_bytes_without_tracking"] == without
     assert (metrics["sync_merges"], metrics["sync_cells_per_merge"]) == (1, 0.0)
     assert (metrics["sync_cells_with_tracking"], metrics["sync_cells_without_tracking"]) == (0, 12)
+
+
+def test_sheng_sync_tables_out_of_order_and_eq_3() -> None:
+    """Table 2 advances only over a contiguous run; a delta received beyond a gap is
+    held (not stored twice) and counted once the gap closes; eq. (3) sends exactly the
+    deltas the peer's table lacks, in sequence order."""
+    from mrexplore.comm.sharing import CellUpdates
+    from mrexplore.comm.sheng_sync import Delta
+
+    sharing = make_sharing("sheng-sync")
+    sharing.bind(3, (4, 4))
+    cells = CellUpdates(np.array([0]), np.array([0]), np.array([FREE], dtype=np.int8))
+    mine = [Delta(0, q, cells) for q in (1, 2, 3, 4)]
+    sharing.deltas[0].extend(mine)
+    for delta in mine:
+        assert sharing._store(0, delta)
+    assert sharing.last[0].tolist() == [4, 0, 0]
+    # robot 1 receives q = 3 and 4 first, then 1, then 2
+    assert sharing._store(1, mine[2]) and sharing._store(1, mine[3])
+    assert not sharing._store(1, mine[3])  # already held, beyond the gap
+    assert sharing.last[1, 0] == 0 and sharing.holds(1, 0, 3) and not sharing.holds(1, 0, 1)
+    assert sharing._store(1, mine[0])
+    assert sharing.last[1, 0] == 1
+    assert sharing._store(1, mine[1])
+    assert sharing.last[1, 0] == 4 and not sharing._store(1, mine[1])
+    # eq. (3): robot 0 owes robot 2 (which holds up to q = 1) the deltas 2..4
+    their = np.array([1, 0, 0], dtype=np.int64)
+    assert sharing.missing_for(0, their) == mine[1:]
+    assert sharing.missing_for(2, sharing.last[0]) == []

@@ -106,24 +106,39 @@ class ShengSync(MapSharing):
 
     def bind(self, n_robots: int, shape: tuple[int, int]) -> None:
         super().bind(n_robots, shape)
-        # table[i][p][q] = ΔM_pq as held by robot i.
-        self.table: list[list[dict[int, Delta]]] = [
-            [{} for _ in range(n_robots)] for _ in range(n_robots)
-        ]
+        # Robot i's raw map table holds ΔM_pq for q <= last[i][p] (Table 2) and for
+        # the q in ahead[(i, p)] (received out of order, beyond a gap). Every ΔM_pq
+        # is one object, made by its discoverer p, so the table's entries are kept
+        # once, in deltas[p][q - 1], not once per robot that holds them.
+        self.deltas: list[list[Delta]] = [[] for _ in range(n_robots)]
+        self.ahead: dict[tuple[int, int], set[int]] = {}
         self.last: npt.NDArray[np.int64] = np.zeros((n_robots, n_robots), dtype=np.int64)
         self.merges = self.with_tracking = self.without_tracking = self.synced_cells = 0
         self.cells_with = self.cells_without = 0  # cell entries in those bytes
 
     # ------------------------------------------------------------ tables
+    def holds(self, robot: int, discoverer: int, seq: int) -> bool:
+        """Whether ``robot``'s raw map table holds ΔM_{discoverer, seq}."""
+        if seq <= self.last[robot, discoverer]:
+            return True
+        ahead = self.ahead.get((robot, discoverer))
+        return ahead is not None and seq in ahead
+
     def _store(self, robot: int, delta: Delta) -> bool:
         """Put ``delta`` into ``robot``'s raw map table; False if it was there already."""
-        column = self.table[robot][delta.discoverer]
-        if delta.seq in column:
+        p, q = delta.discoverer, delta.seq
+        if self.holds(robot, p, q):
             return False
-        column[delta.seq] = delta
         last = self.last[robot]
-        while int(last[delta.discoverer]) + 1 in column:
-            last[delta.discoverer] += 1
+        if q != last[p] + 1:
+            self.ahead.setdefault((robot, p), set()).add(q)
+            return True
+        last[p] = q
+        ahead = self.ahead.get((robot, p))
+        while ahead and q + 1 in ahead:
+            q += 1
+            ahead.discard(q)
+            last[p] = q
         return True
 
     def missing_for(self, robot: int, their_last: npt.NDArray[np.int64]) -> list[Delta]:
@@ -131,8 +146,7 @@ class ShengSync(MapSharing):
         out: list[Delta] = []
         mine = self.last[robot]
         for p in range(self.n_robots):
-            column = self.table[robot][p]
-            out.extend(column[q] for q in range(int(their_last[p]) + 1, int(mine[p]) + 1))
+            out.extend(self.deltas[p][int(their_last[p]) : int(mine[p])])
         return out
 
     # ------------------------------------------------------------ events
@@ -144,6 +158,7 @@ class ShengSync(MapSharing):
             return []
         seq = int(self.last[robot, robot]) + 1
         delta = Delta(robot, seq, cells)
+        self.deltas[robot].append(delta)  # deltas[p][q - 1] = ΔM_pq
         self._store(robot, delta)
         return [Message(MAP_DELTA, robot, BROADCAST, deltas_size([delta]), (delta,), tick)]
 

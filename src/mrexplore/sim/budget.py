@@ -71,9 +71,10 @@ TICK_BYTES = 880
 #: ... their per-robot part, kept twice (lists, then the stacked trace arrays):
 #: 2 x (8 + 1 + 8 + 8 + 2) bytes.
 TICK_BYTES_PER_ROBOT = 54
-#: ``group_diameter``'s temporary ``T x N x N x 2`` float64 differences and squares,
-#: per tick and robot pair (measured 40 B; only with two robots or more).
-TICK_BYTES_PER_ROBOT_PAIR = 40
+#: ``group_diameter``'s temporaries, one robot against the others: ``T x N x 2``
+#: float64 differences and squares and ``T x N`` sums (48 B per tick and robot; only
+#: with two robots or more).
+TICK_BYTES_PER_ROBOT_DIAMETER = 48
 #: Packed link flags, one bit per robot pair and tick, in the stacked trace.
 TICK_BITS_PER_ROBOT_PAIR = 1
 #: ``RangeLinks.links``' numpy temporaries per robot pair (``N x N`` float64
@@ -164,7 +165,7 @@ def estimate_run_bytes(
               + C x 12 [polygon sharing]
               + C x max(26, 150)                          a distance field; metrics
               + P x (84 + 520 x linked_share)             links, P = N (N - 1) / 2
-              + T x (880 + 54 N + 40 N^2 [N >= 2] + N^2 / 16 + 16 N [noisy])
+              + T x (880 + 54 N + 48 N [N >= 2] + N^2 / 16 + 16 N [noisy])
                                                                 per-tick trace
 
     ``linked_share`` is the share of robot pairs within communication range (1 for
@@ -201,7 +202,7 @@ def estimate_run_bytes(
     per_tick = (
         TICK_BYTES
         + (TICK_BYTES_PER_ROBOT + (NOISY_TICK_BYTES_PER_ROBOT if noisy else 0)) * n
-        + (TICK_BYTES_PER_ROBOT_PAIR * n * n if n >= 2 else 0)
+        + (TICK_BYTES_PER_ROBOT_DIAMETER * n if n >= 2 else 0)
         + TICK_BITS_PER_ROBOT_PAIR * n * (n - 1) // 16
     )
     pairs = n * (n - 1) // 2
