@@ -75,8 +75,9 @@ MAPS: dict[str, OfficeMap] = {
 #: The quick run's stand-in for the small environment (1958 explorable cells = 4.9 m^2).
 QUICK_MAP = OfficeMap("small", "50x50", PAPER_AREAS_M2["small"], 6_000, "Figs. 6-8, reduced")
 SPEC_OF_SIZE = {spec.size: spec for spec in (*MAPS.values(), QUICK_MAP)}
-FULL_TEAM_SIZES, FULL_SEEDS = [2, 4, 6, 8, 10], [1, 2, 3, 4, 5]
-YAMAUCHI_SMALL_SEEDS = list(range(1, PAPER_TRIALS + 1))
+#: The paper's grid: every team size of 2-10 robots, 10 trials each, both methods, both
+#: environments, the three ranges (1 080 runs).
+FULL_TEAM_SIZES, FULL_SEEDS = list(PAPER_TEAM_SIZES), list(range(1, PAPER_TRIALS + 1))
 QUICK_TEAM_SIZES, QUICK_SEEDS = [4, 8], [1, 2]
 QUICK_RANGES = [COMM_RANGES_CELLS[0], COMM_RANGES_CELLS[-1]]
 CURVES_EVERY = 10
@@ -108,9 +109,8 @@ radio model | signal decays with the square of distance, walls do not block | di
 environments | structured office-like, {" and ".join(f"{a} m^2" for a in PAPER_AREAS_M2.values())}
   (Fig. 5, not in our copy) | generator office, {" and ".join(m.size for m in MAPS.values())}
   cells, map_seed {MAP_SEED} for every run; quick: one reduced office, {QUICK_MAP.size}
-team sizes | 2-10 | full: 2, 4, 6, 8, 10 (Yamauchi in the small map: 2-10); quick: 4, 8
-trials | {PAPER_TRIALS} per team size | full: seeds 1-{len(FULL_SEEDS)} (Yamauchi in the small
-  map: 1-{PAPER_TRIALS}); quick: {len(QUICK_SEEDS)}
+team sizes | 2-10 | full: 2-10, as the paper; quick: 4, 8
+trials | {PAPER_TRIALS} per team size | full: seeds 1-{len(FULL_SEEDS)}; quick: {len(QUICK_SEEDS)}
 start | relative positions to a known location | adjacent cells around a free cell of the seed
 localisation | known within +-{PAPER_POSITION_ERROR:.0%} | perfect; the reading
   `localisation-error` adds odometry drift of {PAPER_POSITION_ERROR:.0%} per step
@@ -135,9 +135,8 @@ def experiments(quick: bool) -> list[Experiment]:
     out = []
     for spec in [QUICK_MAP] if quick else MAPS.values():
         for strategy, key in STRATEGIES.items():
-            every = not quick and spec.label == "small" and strategy == YAMAUCHI  # claim above_7
-            robots = PAPER_TEAM_SIZES if every else QUICK_TEAM_SIZES if quick else FULL_TEAM_SIZES
-            seeds = YAMAUCHI_SMALL_SEEDS if every else QUICK_SEEDS if quick else FULL_SEEDS
+            robots = QUICK_TEAM_SIZES if quick else FULL_TEAM_SIZES
+            seeds = QUICK_SEEDS if quick else FULL_SEEDS
             fixed = {**FIXED, "size": spec.size, "max_ticks": spec.max_ticks, "strategy": strategy}
             ranges = QUICK_RANGES if quick else COMM_RANGES_CELLS
             grid = {"robots": list(robots), "comm_range": list(ranges)}
