@@ -7,7 +7,9 @@ The scenario of issue 20: the Intel lab at its native 0.05 m cells, 8 robots, se
 range 40 cells, unlimited communication, seed 1. ``--limited`` adds the variant with
 a 10 m communication range (each strategy with its own sharing, ``sheng-sync`` where
 that is ``full``). ``--scaling`` adds a table in robots (4, 16, 64 on a 500 x 500
-office) and map side (250, 500, 1000, 2000; 8 robots) for every strategy. ``--quick``
+office) and map side (250, 500, 1000, 2000; 8 robots) for every strategy, over the
+first 300 ticks of each run: simulation milliseconds per tick and per plan, as ratios
+to nearest-frontier's (a whole exploration of the largest maps takes hours). ``--quick``
 pools Intel to 0.2 m cells and the scaling maps to a quarter of their side, for a
 check that the script works, not for numbers.
 
@@ -44,6 +46,8 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 BASELINE = "nearest-frontier"
+SCALING_TICKS = 300
+"""Ticks of each run of the scaling tables."""
 
 
 def strategy_ids() -> list[str]:
@@ -105,7 +109,13 @@ def field_seconds(base: list[str]) -> float:
 
 
 def table(
-    title: str, base: list[str], strategies: list[str], timeout: float, *, limited: bool = False
+    title: str,
+    base: list[str],
+    strategies: list[str],
+    timeout: float,
+    *,
+    limited: bool = False,
+    per_tick: bool = False,
 ) -> list[str]:
     rows = {
         s: run_once([*base, "--strategy", s, *(own_sharing(s) if limited else [])], timeout)
@@ -113,6 +123,8 @@ def table(
     }
     floor = rows.get(BASELINE, {}).get("wall")
     t_field = field_seconds(base)
+    if per_tick:
+        return tick_table(title, base, rows, timeout, t_field)
     lines = [
         f"### {title}",
         "",
@@ -141,6 +153,44 @@ def table(
     return [*lines, ""]
 
 
+def tick_table(
+    title: str, base: list[str], rows: dict[str, dict[str, Any]], timeout: float, t_field: float
+) -> list[str]:
+    """The scaling tables: simulation milliseconds per tick (``wall_time_s / ticks``)
+    and per plan, as ratios to nearest-frontier's, and the floor ratio."""
+    per_tick = {
+        s: 1000 * row["wall_time_s"] / max(int(row["ticks"]), 1)
+        for s, row in rows.items()
+        if row.get("wall") is not None
+    }
+    base_tick = per_tick.get(BASELINE)
+    lines = [
+        f"### {title}",
+        "",
+        f"`mrexplore run {' '.join(base)} --strategy ID`; one full compiled field: "
+        f"{1000 * t_field:.2f} ms",
+        "",
+        "| strategy | ms per tick | x nearest-frontier | ms per plan | fields per plan "
+        "| x floor | command s |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for strategy, row in sorted(rows.items(), key=lambda item: per_tick.get(item[0], 1e99)):
+        if strategy not in per_tick:
+            lines.append(f"| {strategy} | > {timeout:g} s (stopped) | - | - | - | - | - |")
+            continue
+        plans = max(int(row["plans"]), 1)
+        fields = int(row.get("distance_fields", 0))
+        decide = row["decide_ms_per_plan"] * plans / 1000
+        floor_ratio = f"{decide / (fields * t_field):.2f}" if fields else "-"
+        ratio = f"{per_tick[strategy] / base_tick:.1f}" if base_tick else "-"
+        lines.append(
+            f"| {strategy} | {per_tick[strategy]:.1f} | {ratio} | "
+            f"{row['decide_ms_per_plan']:.2f} | {fields / plans:.2f} | {floor_ratio} "
+            f"| {row['wall']:.1f} |"
+        )
+    return [*lines, ""]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true")
@@ -163,14 +213,19 @@ def main(argv: list[str] | None = None) -> int:
         title = "Intel, 8 robots, 10 m range (sheng-sync where the strategy shares in full)"
         lines += table(title, limited, strategies, args.timeout, limited=True)
     if args.scaling:
+        # Cost per tick as the team and the map grow: the first SCALING_TICKS ticks of
+        # each run (a whole exploration of a 2000 x 2000 office by 8 robots takes hours).
         side = 125 if args.quick else 500
+        ticks = ["--max-ticks", str(SCALING_TICKS)]
         for robots in (4, 16, 64):
             base = ["--map", "office", "--size", f"{side}x{side}", "--robots", str(robots)]
-            lines += table(f"office {side}, {robots} robots", base, strategies, args.timeout)
+            title = f"office {side}, {robots} robots, first {SCALING_TICKS} ticks"
+            lines += table(title, [*base, *ticks], strategies, args.timeout, per_tick=True)
         for full_side in (250, 500, 1000, 2000):
             side = full_side // 4 if args.quick else full_side
             base = ["--map", "office", "--size", f"{side}x{side}", "--robots", "8"]
-            lines += table(f"office {side}, 8 robots", base, strategies, args.timeout)
+            title = f"office {side}, 8 robots, first {SCALING_TICKS} ticks"
+            lines += table(title, [*base, *ticks], strategies, args.timeout, per_tick=True)
     print("\n".join(lines))
     return 0
 
