@@ -63,9 +63,15 @@ class LinkModel(ABC):
 class AllLinks(LinkModel):
     """Unlimited range: every pair of live robots is linked."""
 
+    def __init__(self) -> None:
+        self._last: tuple[tuple[int, ...], frozenset[Link]] = ((), frozenset())
+
     def links(self, positions: Mapping[int, Cell]) -> frozenset[Link]:
-        ids = sorted(positions)
-        return frozenset((a, b) for i, a in enumerate(ids) for b in ids[i + 1 :])
+        ids = tuple(sorted(positions))
+        if ids != self._last[0]:  # the same live robots: the same pairs as last time
+            pairs = frozenset((a, b) for i, a in enumerate(ids) for b in ids[i + 1 :])
+            self._last = (ids, pairs)
+        return self._last[1]
 
     def describe(self) -> str:
         return "unlimited range"

@@ -301,6 +301,7 @@ class Network(CommModel):
         self.rng = rng
         self._alive: frozenset[int] = frozenset(range(n_robots))
         self._links: frozenset[Link] = frozenset()
+        self._topology_set = False
         self._neighbours: dict[int, set[int]] = {}
         self._groups: list[frozenset[int]] = []
         self._group_of: dict[int, frozenset[int]] = {}
@@ -326,16 +327,21 @@ class Network(CommModel):
 
     # ----------------------------------------------------------------- topology
     def update(self, tick: int, positions: Mapping[int, Position], alive: frozenset[int]) -> None:
-        self._alive = alive
         live_positions = {r: positions[r] for r in alive}
-        self._links = self.link_model.links(live_positions)
-        self._neighbours = {r: set() for r in alive}
-        for a, b in self._links:
-            self._neighbours[a].add(b)
-            self._neighbours[b].add(a)
+        links = self.link_model.links(live_positions)
         previous = self._groups
-        self._groups = components(alive, self._links)
-        self._group_of = {r: g for g in self._groups for r in g}
+        if not self._topology_set or alive != self._alive or links != self._links:
+            self._topology_set = True
+            self._alive = alive
+            self._links = links
+            self._neighbours = {r: set() for r in alive}
+            for a, b in links:
+                self._neighbours[a].add(b)
+                self._neighbours[b].add(a)
+            self._groups = components(alive, links)
+            self._group_of = {r: g for g in self._groups for r in g}
+        # else: the same robots and links as at the previous tick, so the same
+        # neighbours and sub-networks (a team in range of each other most ticks)
         self.record_topology(tick, previous, self._groups, alive)
         for robot in list(self._queues):
             if robot not in alive:  # a dead robot's queue dies with it
