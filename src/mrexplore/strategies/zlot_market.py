@@ -366,7 +366,8 @@ class TickDistances:
 
     Each query runs one distance field from its source, stopped once every
     target is settled or beyond ``max_distance``. Within a tick the belief does
-    not change, so a pair found by one query is reused by the next, and paths are
+    not change (nor, often, from one tick to the next), so a pair found by one query
+    is reused by the next while the free cells stay the same, and paths are
     symmetric (8-connected, no corner cutting): ``d(a, b) = d(b, a)``. The
     searches run in a :class:`~mrexplore.planning.multi_fields.FieldWorkspace`
     kept across queries and ticks: a query costs only the cells it touches.
@@ -379,9 +380,12 @@ class TickDistances:
         self._known: dict[tuple[Cell, Cell], float] = {}
 
     def reset(self, tick: int, free: npt.NDArray[np.bool_]) -> None:
-        """Start a new tick over the belief's free cells ``free``."""
-        self.tick, self.free = tick, free
-        self._known.clear()
+        """Start a new tick over the belief's free cells ``free``; the lengths found so far
+        are kept when the free cells are those of the last tick."""
+        if not np.array_equal(free, self.free):
+            self._known.clear()
+            self.free = free
+        self.tick = tick
 
     def between(
         self, source: Cell, targets: Sequence[Cell], max_distance: float = np.inf
@@ -494,7 +498,8 @@ class ZlotMarket(Strategy):
         return [view.position, *self.tour]
 
     def distances(self, view: RobotView) -> TickDistances:
-        """Path lengths over this tick's belief, each pair computed once per tick."""
+        """Path lengths over this tick's belief, each pair computed once while the known
+        free cells stay the same."""
         if self._distances.tick != view.tick:
             self._distances.reset(view.tick, passable(view.belief))
         return self._distances
