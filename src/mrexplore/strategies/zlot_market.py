@@ -137,7 +137,7 @@ import numpy.typing as npt
 from mrexplore.comm.bytes import BROADCAST, float32_on_wire
 from mrexplore.comm.messages import BID, BidItem, CellItem, Message, item_message
 from mrexplore.planning import SQRT2, extract_path, frontier_mask, information_gain
-from mrexplore.planning.multi_fields import FieldWorkspace
+from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -357,8 +357,8 @@ def cells_within(
     top, left = max(source[0] - reach, 0), max(source[1] - reach, 0)
     bottom, right = min(source[0] + reach + 1, height), min(source[1] + reach + 1, width)
     window = (slice(top, bottom), slice(left, right))
-    rows, cols = np.nonzero(mask[window] & (field[window] <= bound))
-    return rows.astype(np.int64) + top, cols.astype(np.int64) + left
+    _, rows, cols = raster_cells(mask[window] & (field[window] <= bound))
+    return rows + top, cols + left
 
 
 class TickDistances:
