@@ -176,13 +176,13 @@ from mrexplore.comm.bytes import BROADCAST, float32_on_wire
 from mrexplore.comm.messages import BID, TARGET, BidItem, CellItem, Message, item_message
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
-    disk_mask,
     disk_offsets,
     distance_field,
     extract_path,
     frontier_mask,
     information_gain,
 )
+from mrexplore.planning.multi_disks import disks_mask
 from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells
 from mrexplore.strategies.base import (
     Cell,
@@ -272,7 +272,7 @@ def information_gains(
     counting those within ``sensor_range`` of any cell of ``others`` (positions of
     the other sensing-and-mapping robots, targets of the travelling ones)."""
     centres = list(others)
-    exclude = disk_mask(belief.shape, centres, sensor_range) if centres else None
+    exclude = disks_mask(belief.shape, centres, sensor_range) if centres else None
     return information_gain(belief, candidates, sensor_range, exclude=exclude)
 
 

@@ -328,7 +328,8 @@ def clear_disk(mask: npt.NDArray[np.bool_], row: int, col: int, radius: float) -
     [[1, 0, 1, 1], [0, 0, 0, 1], [1, 0, 1, 1]]
     """
     height, width = mask.shape
-    radius = min(radius, float(height + width))
+    # A larger disk holds the same cells of the grid (bounds the stamp's size).
+    radius = min(radius, float(height + width + abs(row) + abs(col)))
     disk = _disk(radius)
     reach = disk.shape[0] // 2
     top, bottom = max(row - reach, 0), min(row + reach + 1, height)
