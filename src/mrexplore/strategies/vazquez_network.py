@@ -1405,7 +1405,7 @@ class VazquezNetwork(Strategy, ReplanRules):
         if blocked == self.avoided:
             return Decision()
         ahead = path[index + 1 : index + 1 + math.ceil(min(d1, len(path)))]
-        if not {(int(r), int(c)) for r, c in ahead} & blocked:
+        if not {(r, c) for r, c in ahead.tolist()} & blocked:
             return Decision()
         self.avoided = blocked
         new_path = route_around(
