@@ -183,7 +183,7 @@ from mrexplore.planning import (
     information_gain,
 )
 from mrexplore.planning.multi_disks import disks_mask
-from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells
+from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells, shared_workspace
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -545,8 +545,6 @@ class ShengBidding(Strategy):
         self.cells_seen = 0
         self.previous_subnetwork: frozenset[int] | None = None
         self._topology: tuple[frozenset[tuple[int, int]], int, dict[int, int]] | None = None
-        self._own_fields = FieldWorkspace()  # buffers of the bid's searches, reused
-        self._other_fields = FieldWorkspace()
 
     # ------------------------------------------------------------------ decide
     def decide(self, view: RobotView) -> Decision:
@@ -751,15 +749,16 @@ class ShengBidding(Strategy):
             w3=self.w3,
             units=self.eq2_units,
             nearness_cells=near,
-            own_fields=self._own_fields,
-            other_fields=self._other_fields,
+            own_fields=shared_workspace("sheng-bidding own"),
+            other_fields=shared_workspace("sheng-bidding others"),
         )
 
     def _path_to(self, view: RobotView, goal: Cell) -> npt.NDArray[np.int32] | None:
         """:func:`~mrexplore.planning.path_to` over the belief, in the bid's buffers."""
         width = view.belief.shape[1]
         index = np.array([goal[0] * width + goal[1]], dtype=np.int64)
-        field = self._own_fields.search(passable(view.belief), view.position, target_cells=index)
+        fields = shared_workspace("sheng-bidding own")
+        field = fields.search(passable(view.belief), view.position, target_cells=index)
         return extract_path(field, goal) if np.isfinite(field[goal]) else None
 
     def _win(self, view: RobotView, out: list[Message]) -> Decision:

@@ -313,7 +313,12 @@ from mrexplore.planning import (
     path_to,
 )
 from mrexplore.planning.multi_disks import disks_mask
-from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells, reachable_cells
+from mrexplore.planning.multi_fields import (
+    FieldWorkspace,
+    raster_cells,
+    reachable_cells,
+    shared_workspace,
+)
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -880,8 +885,6 @@ class VazquezNetwork(Strategy, ReplanRules):
         self.aborted: dict[Cell, int] = {}  # frontier given up for a constraint -> until tick
         self._roles_key: tuple[frozenset[int], frozenset[tuple[int, int]]] | None = None
         self._roles = NetworkRoles(frozenset(), frozenset(), {robot_id: 0})
-        self._fields = FieldWorkspace()
-        """Buffers of this robot's searches; a field it returns is valid until the next."""
 
     # ------------------------------------------------------------------ knowledge
     def _d3(self, view: RobotView) -> float:
@@ -1021,6 +1024,12 @@ class VazquezNetwork(Strategy, ReplanRules):
         limit = collision_distance * collision_distance
         cells = self._cells(view.subnetwork - {self.robot_id})
         return [cell for cell in cells if g(view.position, cell) < limit]
+
+    @property
+    def _fields(self) -> FieldWorkspace:
+        """The thread's search buffers, shared by the robots: a field is read within the
+        decision that searched it, and valid until the next search."""
+        return shared_workspace("vazquez-network")
 
     # ------------------------------------------------------------------ protocol
     def decide(self, view: RobotView) -> Decision:

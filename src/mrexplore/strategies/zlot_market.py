@@ -137,7 +137,7 @@ import numpy.typing as npt
 from mrexplore.comm.bytes import BROADCAST, float32_on_wire
 from mrexplore.comm.messages import BID, BidItem, CellItem, Message, item_message
 from mrexplore.planning import SQRT2, extract_path, frontier_mask, information_gain
-from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells
+from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells, shared_workspace
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -371,14 +371,19 @@ class TickDistances:
     is reused by the next while the free cells stay the same, and paths are
     symmetric (8-connected, no corner cutting): ``d(a, b) = d(b, a)``. The
     searches run in a :class:`~mrexplore.planning.multi_fields.FieldWorkspace`
-    kept across queries and ticks: a query costs only the cells it touches.
+    kept across queries, ticks and robots: a query costs only the cells it touches.
     """
 
     def __init__(self) -> None:
         self.tick = -1
         self.free = np.zeros((0, 0), dtype=bool)
-        self.fields = FieldWorkspace()
         self._known: dict[tuple[Cell, Cell], float] = {}
+
+    @property
+    def fields(self) -> FieldWorkspace:
+        """The thread's search buffers (shared by every robot's market; each query
+        releases them before it returns)."""
+        return shared_workspace("zlot-market")
 
     def reset(self, tick: int, free: npt.NDArray[np.bool_]) -> None:
         """Start a new tick over the belief's free cells ``free``; the lengths found so far
