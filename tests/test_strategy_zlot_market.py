@@ -266,3 +266,109 @@ def test_a_lone_robot_holds_no_auctions() -> None:
     record = simulate(Scenario(map="sheng40", robots=1, strategy="zlot-market", seed=1))
     assert record.status == "complete"
     assert record.result()["bytes_total"] == 0
+
+
+# ---------------------------------------------------------------------- compiled paths
+def _plain_generate_goals(
+    market: ZlotMarket, view: RobotView
+) -> tuple[list[tuple[int, int]], dict[tuple[int, int], int]]:
+    """Step 1 as first written: one field to every frontier cell, then the numpy
+    selection (the formulation the bounded searches must reproduce)."""
+    from mrexplore.planning import frontier_mask
+    from mrexplore.strategies.base import passable, reachable_frontier_cells
+    from mrexplore.strategies.zlot_market import spread_goals as spread
+
+    frontier = frontier_mask(view.belief)
+    foreign = dict(market.foreign_goals)
+    if not frontier.any():
+        return [], foreign
+    dist = distance_field(passable(view.belief), view.position, targets=frontier)
+    rows, cols = reachable_frontier_cells(frontier, dist)
+    if rows.size == 0:
+        return [], foreign
+    foreign = {g: r for g, r in foreign.items() if frontier[g]}
+    spacing = market.goal_spacing or view.sensor_range
+    held = market.tour + [g for g, r in foreign.items() if r in view.subnetwork]
+    unclaimed = np.ones(rows.size, dtype=bool)
+    for row, col in held:
+        unclaimed &= np.hypot(rows - row, cols - col) > spacing
+    if unclaimed.any():
+        rows, cols = rows[unclaimed], cols[unclaimed]
+    cost = dist[rows, cols]
+    near = cost <= cost.min() + market.generation_radius
+    rows, cols = rows[near], cols[near]
+    chosen = spread(rows, cols, market.goals_per_round, spacing, view.rng)
+    return [(int(rows[i]), int(cols[i])) for i in chosen], foreign
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_generate_goals_matches_the_full_field_formulation(seed: int) -> None:
+    """Random beliefs, positions, held goals, spacings and radii: the two bounded
+    searches pick the goals one full field picks, and draw the same random numbers."""
+    rng = np.random.default_rng(seed)
+    height, width = int(rng.integers(8, 40)), int(rng.integers(8, 40))
+    belief = np.full((height, width), UNKNOWN, dtype=np.int8)
+    known = rng.random((height, width)) < rng.uniform(0.3, 0.9)
+    belief[known] = np.where(rng.random(int(known.sum())) < 0.8, FREE, OCCUPIED)
+    free_cells = np.argwhere(belief == FREE)
+    if free_cells.size == 0:
+        return
+    position = tuple(int(v) for v in free_cells[rng.integers(len(free_cells))])
+    params = {
+        "goal_spacing": float(rng.choice([0.0, 2.0, 5.5])),
+        "generation_radius": float(rng.choice([0.0, 1.0, 3.7])),
+    }
+    plain, fast = ZlotMarket(0, 3, **params), ZlotMarket(0, 3, **params)
+    held = [tuple(int(v) for v in free_cells[i]) for i in rng.integers(len(free_cells), size=3)]
+    for market in (plain, fast):
+        market.tour = [held[0]]
+        market.foreign_goals = {held[1]: 1, held[2]: 2}
+    views = [
+        RobotView(
+            robot_id=0,
+            n_robots=3,
+            tick=0,
+            position=position,
+            belief=belief,
+            goal=None,
+            path_remaining=0,
+            arrived=False,
+            blocked=False,
+            inbox=(),
+            subnetwork=frozenset({0, 1}),
+            sensor_range=3.0,
+            speed=1.0,
+            rng=np.random.default_rng(seed),
+            new_cells=0,
+        )
+        for _ in range(2)
+    ]
+    expected, foreign = _plain_generate_goals(plain, views[0])
+    assert fast.generate_goals(views[1]) == expected
+    assert fast.foreign_goals == foreign
+    assert views[0].rng.random() == views[1].rng.random()  # same draws
+
+
+def test_clear_disk_and_cells_within_match_numpy() -> None:
+    from mrexplore.strategies.zlot_market import cells_within, clear_disk
+
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        shape = (int(rng.integers(1, 30)), int(rng.integers(1, 30)))
+        mask = rng.random(shape) < 0.5
+        row, col = int(rng.integers(-5, shape[0] + 5)), int(rng.integers(-5, shape[1] + 5))
+        radius = float(rng.uniform(0, 12))
+        rows, cols = np.indices(shape)
+        expected = mask & (np.hypot(rows - row, cols - col) > radius)
+        clear_disk(mask, row, col, radius)
+        np.testing.assert_array_equal(mask, expected)
+
+        field = np.where(rng.random(shape) < 0.3, np.inf, rng.uniform(0, 20, shape))
+        source = (int(rng.integers(shape[0])), int(rng.integers(shape[1])))
+        chebyshev = np.maximum(abs(rows - source[0]), abs(cols - source[1]))
+        field = np.maximum(field, chebyshev)  # a path is never shorter
+        bound = float(rng.uniform(0, 25))
+        got = cells_within(field, mask, source, bound)
+        want = np.nonzero(mask & (field <= bound))
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])

@@ -176,14 +176,14 @@ from mrexplore.comm.bytes import BROADCAST, float32_on_wire
 from mrexplore.comm.messages import BID, TARGET, BidItem, CellItem, Message, item_message
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
-    disk_mask,
     disk_offsets,
     distance_field,
     extract_path,
     frontier_mask,
     information_gain,
-    path_to,
 )
+from mrexplore.planning.multi_disks import disks_mask
+from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells, shared_workspace
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -272,7 +272,7 @@ def information_gains(
     counting those within ``sensor_range`` of any cell of ``others`` (positions of
     the other sensing-and-mapping robots, targets of the travelling ones)."""
     centres = list(others)
-    exclude = disk_mask(belief.shape, centres, sensor_range) if centres else None
+    exclude = disks_mask(belief.shape, centres, sensor_range) if centres else None
     return information_gain(belief, candidates, sensor_range, exclude=exclude)
 
 
@@ -302,6 +302,8 @@ def compute_bid(
     w3: float,
     units: str = "cells",
     nearness_cells: Sequence[Cell] | None = None,
+    own_fields: FieldWorkspace | None = None,
+    other_fields: FieldWorkspace | None = None,
 ) -> tuple[Bid, npt.NDArray[np.float64]] | None:
     """§3.2: the bid ``B = max_i g_i`` of a robot at ``position`` over its frontier cells.
 
@@ -311,14 +313,23 @@ def compute_bid(
     (:data:`EQ2_UNITS`). Returns the bid and the robot's distance field (for its
     path), or ``None`` when no frontier cell is reachable. Ties go to the first cell
     in raster order.
+
+    The searches run in ``own_fields`` (the robot's field, then valid until that
+    workspace's next search) and ``other_fields`` when given, in fresh arrays
+    otherwise; the results are the same.
     """
     frontier = frontier_mask(belief)
     if not frontier.any():
         return None
     free = passable(belief)
-    own = distance_field(free, position, targets=frontier)
-    candidates = frontier & np.isfinite(own) & (own > 0)
-    rows, cols = np.nonzero(candidates)
+    if own_fields is None:
+        own = distance_field(free, position, targets=frontier)
+    else:
+        own = own_fields.search(free, position, targets=frontier)
+    flat_index, rows, cols = raster_cells(frontier)
+    at = own.reshape(-1)[flat_index]
+    reachable = np.isfinite(at) & (at > 0)  # not the robot's own cell
+    flat_index, rows, cols = flat_index[reachable], rows[reachable], cols[reachable]
     if rows.size == 0:
         return None
     cells = np.stack([rows, cols], axis=1)
@@ -328,8 +339,20 @@ def compute_bid(
     near = others if nearness_cells is None else list(nearness_cells)
     if w3 != 0.0 and near:
         to_others = np.empty((rows.size, len(near)), dtype=np.float64)
+        column_of: dict[Cell, int] = {}  # a cell met twice needs one field
         for k, cell in enumerate(near):
-            to_others[:, k] = distance_field(free, cell, targets=candidates)[rows, cols]
+            if cell in column_of:
+                to_others[:, k] = to_others[:, column_of[cell]]
+                continue
+            column_of[cell] = k
+            if other_fields is None:
+                candidates = np.zeros(frontier.shape, dtype=bool)
+                candidates[rows, cols] = True
+                to_others[:, k] = distance_field(free, cell, targets=candidates)[rows, cols]
+            else:
+                field = other_fields.search(free, cell, target_cells=flat_index)
+                to_others[:, k] = field.reshape(-1)[flat_index]
+                other_fields.release()
         lam = nearness(to_others, comm_range, alpha)
     else:
         lam = np.zeros(rows.size, dtype=np.float64)
@@ -726,7 +749,17 @@ class ShengBidding(Strategy):
             w3=self.w3,
             units=self.eq2_units,
             nearness_cells=near,
+            own_fields=shared_workspace("sheng-bidding own"),
+            other_fields=shared_workspace("sheng-bidding others"),
         )
+
+    def _path_to(self, view: RobotView, goal: Cell) -> npt.NDArray[np.int32] | None:
+        """:func:`~mrexplore.planning.path_to` over the belief, in the bid's buffers."""
+        width = view.belief.shape[1]
+        index = np.array([goal[0] * width + goal[1]], dtype=np.int64)
+        fields = shared_workspace("sheng-bidding own")
+        field = fields.search(passable(view.belief), view.position, target_cells=index)
+        return extract_path(field, goal) if np.isfinite(field[goal]) else None
 
     def _win(self, view: RobotView, out: list[Message]) -> Decision:
         """No better bid: declare (Fig. 5 ``broadcast(my_ID)``) and travel."""
@@ -734,7 +767,7 @@ class ShengBidding(Strategy):
         goal = self.my_bid.target
         path = None
         if goal != view.position and frontier_at(view.belief, *goal):
-            path = path_to(passable(view.belief), view.position, goal)
+            path = self._path_to(view, goal)
         if path is None:  # the target went stale during the session: recompute
             result = self._evaluate(view)
             if result is None:

@@ -307,12 +307,17 @@ from mrexplore.comm.bytes import BROADCAST, TARGET_BYTES, fixed_size
 from mrexplore.comm.messages import TARGET, CellItem, Message, item_message
 from mrexplore.grid.occupancy import BeliefGrid, BoolGrid
 from mrexplore.planning import (
-    disk_mask,
-    distance_field,
     extract_path,
     frontier_mask,
     information_gain,
     path_to,
+)
+from mrexplore.planning.multi_disks import disks_mask
+from mrexplore.planning.multi_fields import (
+    FieldWorkspace,
+    raster_cells,
+    reachable_cells,
+    shared_workspace,
 )
 from mrexplore.strategies.base import (
     Cell,
@@ -324,7 +329,6 @@ from mrexplore.strategies.base import (
     Strategy,
     frontier_at,
     passable,
-    reachable_frontier_cells,
 )
 
 POSITION = "position"
@@ -441,7 +445,7 @@ def exclusion_mask(
     [[0, 1, 0, 0], [1, 1, 1, 0], [0, 1, 0, 0]]
     """
     cells = list(centres)
-    return disk_mask(shape, cells, radius) if cells else None
+    return disks_mask(shape, cells, radius) if cells else None
 
 
 def utility(
@@ -625,7 +629,7 @@ def approach_cell(dist: npt.NDArray[np.float64], point: Cell) -> Cell | None:
     >>> approach_cell(field, (0, 2))
     (0, 1)
     """
-    rows, cols = np.nonzero(np.isfinite(dist))
+    _, rows, cols = raster_cells(np.isfinite(dist))
     if rows.size == 0:
         return None
     squared = (rows - point[0]) ** 2 + (cols - point[1]) ** 2
@@ -634,7 +638,13 @@ def approach_cell(dist: npt.NDArray[np.float64], point: Cell) -> Cell | None:
     return int(rows[best]), int(cols[best])
 
 
-def route_around(free: BoolGrid, start: Cell, goal: Cell, obstacles: Sequence[Cell]) -> Path | None:
+def route_around(
+    free: BoolGrid,
+    start: Cell,
+    goal: Cell,
+    obstacles: Sequence[Cell],
+    fields: FieldWorkspace | None = None,
+) -> Path | None:
     """§3.3.2: shortest path from ``start`` to ``goal`` with ``obstacles`` (robots closer
     than the collision distance) as static obstacles; None if they cut the goal off.
 
@@ -649,7 +659,10 @@ def route_around(free: BoolGrid, start: Cell, goal: Cell, obstacles: Sequence[Ce
         rows, cols = np.asarray(obstacles).T
         grid[rows, cols] = False
     grid[goal] = free[goal]  # a robot on the goal itself does not make it unreachable
-    return path_to(grid, start, goal)
+    if fields is None:
+        return path_to(grid, start, goal)
+    field = fields.search(grid, start, target_cells=np.array([goal[0] * grid.shape[1] + goal[1]]))
+    return extract_path(field, goal) if np.isfinite(field[goal]) else None
 
 
 # ---------------------------------------------------------------------- strategy
@@ -1012,6 +1025,12 @@ class VazquezNetwork(Strategy, ReplanRules):
         cells = self._cells(view.subnetwork - {self.robot_id})
         return [cell for cell in cells if g(view.position, cell) < limit]
 
+    @property
+    def _fields(self) -> FieldWorkspace:
+        """The thread's search buffers, shared by the robots: a field is read within the
+        decision that searched it, and valid until the next search."""
+        return shared_workspace("vazquez-network")
+
     # ------------------------------------------------------------------ protocol
     def decide(self, view: RobotView) -> Decision:
         tick = view.tick
@@ -1155,7 +1174,12 @@ class VazquezNetwork(Strategy, ReplanRules):
             return self._return(view, roles, partners, close, d1, d2)
         kept, self.kept = self.kept, None
         if kept is not None and frontier_at(view.belief, *kept):  # back: resume it
-            dist = distance_field(self._grid(view, close), view.position)
+            # Stopped at the frontier: the same length and path as a full field.
+            width = view.belief.shape[1]
+            kept_cell = np.array([kept[0] * width + kept[1]], dtype=np.int64)
+            dist = self._fields.search(
+                self._grid(view, close), view.position, target_cells=kept_cell
+            )
             if 0 < dist[kept] < math.inf:
                 self.resumed = kept
                 return self._go(view, EXPLORE, extract_path(dist, kept), kept)
@@ -1241,8 +1265,8 @@ class VazquezNetwork(Strategy, ReplanRules):
                 grid = free.copy()
                 rows, cols = np.asarray(obstacles).T
                 grid[rows, cols] = False
-            dist = distance_field(grid, view.position, targets=targets)
-            rows, cols = reachable_frontier_cells(targets, dist)
+            dist = self._fields.search(grid, view.position, targets=targets)
+            rows, cols = reachable_cells(targets, dist)
             if rows.size:
                 break
         if rows.size == 0:
@@ -1339,11 +1363,11 @@ class VazquezNetwork(Strategy, ReplanRules):
     ) -> Decision:
         """Move along a shortest path towards ``point`` until within ``radius`` of it
         (around robots closer than the collision distance when possible)."""
-        dist = distance_field(self._grid(view, close), view.position)
+        dist = self._fields.search(self._grid(view, close), view.position)
         cell = approach_cell(dist, point)
         if close and (cell is None or g(cell, point) > radius * radius):
             close = []
-            dist = distance_field(passable(view.belief), view.position)
+            dist = self._fields.search(passable(view.belief), view.position)
             cell = approach_cell(dist, point)
         if cell is None:
             return self._hold(view)
@@ -1390,10 +1414,12 @@ class VazquezNetwork(Strategy, ReplanRules):
         if blocked == self.avoided:
             return Decision()
         ahead = path[index + 1 : index + 1 + math.ceil(min(d1, len(path)))]
-        if not {(int(r), int(c)) for r, c in ahead} & blocked:
+        if not {(r, c) for r, c in ahead.tolist()} & blocked:
             return Decision()
         self.avoided = blocked
-        new_path = route_around(passable(view.belief), view.position, view.goal, close)
+        new_path = route_around(
+            passable(view.belief), view.position, view.goal, close, self._fields
+        )
         if new_path is None:
             return Decision()  # cut off: keep the path, the simulator handles contact
         self.path = new_path

@@ -127,6 +127,7 @@ Interpretations (where the sources are silent):
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -135,8 +136,8 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, float32_on_wire
 from mrexplore.comm.messages import BID, BidItem, CellItem, Message, item_message
-from mrexplore.planning import SQRT2, distance_field, frontier_mask, information_gain, path_to
-from mrexplore.planning.distance import count_field, distance_field_kernel
+from mrexplore.planning import SQRT2, extract_path, frontier_mask, information_gain
+from mrexplore.planning.multi_fields import FieldWorkspace, raster_cells, shared_workspace
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -145,7 +146,6 @@ from mrexplore.strategies.base import (
     Strategy,
     frontier_at,
     passable,
-    reachable_frontier_cells,
 )
 from mrexplore.strategies.network import hop_distances
 
@@ -307,35 +307,91 @@ def octile_distances(cell: Cell, others: Sequence[Cell]) -> npt.NDArray[np.float
     return offsets.max(axis=1) + (SQRT2 - 1.0) * offsets.min(axis=1)
 
 
+@functools.lru_cache(maxsize=8)
+def _disk(radius: float) -> npt.NDArray[np.bool_]:
+    """``(2k + 1) x (2k + 1)`` mask of the offsets within ``radius`` cells, ``k = floor(radius)``
+    (read-only, shared)."""
+    reach = int(radius)
+    offsets = np.arange(-reach, reach + 1, dtype=np.int64)
+    disk = np.hypot(offsets[:, None], offsets[None, :]) <= radius
+    disk.flags.writeable = False
+    return disk
+
+
+def clear_disk(mask: npt.NDArray[np.bool_], row: int, col: int, radius: float) -> None:
+    """Set ``mask`` to ``False`` at every cell within ``radius`` (Euclidean, cells) of
+    ``(row, col)``, in place.
+
+    >>> mask = np.ones((3, 4), dtype=bool)
+    >>> clear_disk(mask, 1, 1, 1.0)
+    >>> mask.astype(int).tolist()
+    [[1, 0, 1, 1], [0, 0, 0, 1], [1, 0, 1, 1]]
+    """
+    height, width = mask.shape
+    # A larger disk holds the same cells of the grid (bounds the stamp's size).
+    radius = min(radius, float(height + width + abs(row) + abs(col)))
+    disk = _disk(radius)
+    reach = disk.shape[0] // 2
+    top, bottom = max(row - reach, 0), min(row + reach + 1, height)
+    left, right = max(col - reach, 0), min(col + reach + 1, width)
+    if top >= bottom or left >= right:
+        return
+    inside = disk[
+        top - row + reach : bottom - row + reach, left - col + reach : right - col + reach
+    ]
+    mask[top:bottom, left:right] &= ~inside
+
+
+def cells_within(
+    field: npt.NDArray[np.float64], mask: npt.NDArray[np.bool_], source: Cell, bound: float
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """Rows and cols (raster order) of the cells of ``mask`` with ``field <= bound``, for a
+    field from ``source``: only the square within ``bound`` of it is read (a path is
+    never shorter than the Chebyshev distance).
+
+    >>> field = np.array([[0.0, 1.0, 2.0]])
+    >>> cells_within(field, np.array([[True, False, True]]), (0, 0), 1.5)
+    (array([0]), array([0]))
+    """
+    height, width = field.shape
+    reach = int(min(bound, height + width))
+    top, left = max(source[0] - reach, 0), max(source[1] - reach, 0)
+    bottom, right = min(source[0] + reach + 1, height), min(source[1] + reach + 1, width)
+    window = (slice(top, bottom), slice(left, right))
+    _, rows, cols = raster_cells(mask[window] & (field[window] <= bound))
+    return rows + top, cols + left
+
+
 class TickDistances:
     """Shortest-path lengths (cells) between cells over one tick's belief.
 
     Each query runs one distance field from its source, stopped once every
     target is settled or beyond ``max_distance``. Within a tick the belief does
-    not change, so a pair found by one query is reused by the next, and paths are
-    symmetric (8-connected, no corner cutting): ``d(a, b) = d(b, a)``. The work
-    buffers of :func:`~mrexplore.planning.distance.distance_field_kernel` are
-    kept across queries and ticks: a query costs only the cells it settles.
+    not change (nor, often, from one tick to the next), so a pair found by one query
+    is reused by the next while the free cells stay the same, and paths are
+    symmetric (8-connected, no corner cutting): ``d(a, b) = d(b, a)``. The
+    searches run in a :class:`~mrexplore.planning.multi_fields.FieldWorkspace`
+    kept across queries, ticks and robots: a query costs only the cells it touches.
     """
 
     def __init__(self) -> None:
         self.tick = -1
         self.free = np.zeros((0, 0), dtype=bool)
         self._known: dict[tuple[Cell, Cell], float] = {}
-        self._dist = np.zeros(0)
-        self._state = np.zeros(0, dtype=np.uint8)
-        self._buckets = np.zeros((3, 0), dtype=np.int32)
-        self._targets = np.zeros(0, dtype=bool)
+
+    @property
+    def fields(self) -> FieldWorkspace:
+        """The thread's search buffers (shared by every robot's market; each query
+        releases them before it returns)."""
+        return shared_workspace("zlot-market")
 
     def reset(self, tick: int, free: npt.NDArray[np.bool_]) -> None:
-        """Start a new tick over the belief's free cells ``free``."""
-        self.tick, self.free = tick, free
-        self._known.clear()
-        if self._dist.size != free.size:
-            self._dist = np.empty(free.size)
-            self._state = np.empty(free.size, dtype=np.uint8)
-            self._buckets = np.empty((3, free.size), dtype=np.int32)
-            self._targets = np.zeros(free.size, dtype=bool)
+        """Start a new tick over the belief's free cells ``free``; the lengths found so far
+        are kept when the free cells are those of the last tick."""
+        if not np.array_equal(free, self.free):
+            self._known.clear()
+            self.free = free
+        self.tick = tick
 
     def between(
         self, source: Cell, targets: Sequence[Cell], max_distance: float = np.inf
@@ -343,38 +399,26 @@ class TickDistances:
         """``d(source, t)`` for each target; ``inf`` if unreachable or beyond ``max_distance``."""
         missing = [t for t in targets if (source, t) not in self._known]
         if missing:
-            height, width = self.free.shape
-            flat = self.free.reshape(-1)
+            width = self.free.shape[1]
             index = np.array([r * width + c for r, c in missing], dtype=np.int64)
-            src = source[0] * width + source[1]
-            self._dist.fill(np.inf)
-            self._state.fill(0)
-            self._targets[index] = True
-            n_targets = int(np.count_nonzero(flat[index])) + int(
-                not flat[src] and bool(self._targets[src])
+            field = self.fields.search(
+                self.free, source, target_cells=index, max_distance=max_distance
             )
-            free = flat
-            if not flat[src]:
-                free = flat.copy()
-                free[src] = True
-            count_field()
-            distance_field_kernel(
-                free,
-                height,
-                width,
-                src,
-                self._targets,
-                n_targets,
-                float(max_distance),
-                self._dist,
-                self._state,
-                self._buckets,
-            )
-            self._targets[index] = False
-            for target, length in zip(missing, self._dist[index].tolist(), strict=True):
+            lengths = field.reshape(-1)[index].tolist()
+            self.fields.release()
+            for target, length in zip(missing, lengths, strict=True):
                 if np.isfinite(length) or np.isinf(max_distance):  # a bounded miss is not final
                     self._known[source, target] = self._known[target, source] = length
         return np.array([self._known.get((source, t), np.inf) for t in targets], dtype=np.float64)
+
+    def path(self, source: Cell, goal: Cell) -> npt.NDArray[np.int32] | None:
+        """The path :func:`~mrexplore.planning.paths.path_to` gives over this tick's belief."""
+        width = self.free.shape[1]
+        index = np.array([goal[0] * width + goal[1]], dtype=np.int64)
+        field = self.fields.search(self.free, source, target_cells=index)
+        path = extract_path(field, goal) if np.isfinite(field[goal]) else None
+        self.fields.release()
+        return path
 
 
 class ZlotMarket(Strategy):
@@ -460,7 +504,8 @@ class ZlotMarket(Strategy):
         return [view.position, *self.tour]
 
     def distances(self, view: RobotView) -> TickDistances:
-        """Path lengths over this tick's belief, each pair computed once per tick."""
+        """Path lengths over this tick's belief, each pair computed once while the known
+        free cells stay the same."""
         if self._distances.tick != view.tick:
             self._distances.reset(view.tick, passable(view.belief))
         return self._distances
@@ -533,25 +578,45 @@ class ZlotMarket(Strategy):
         return bids
 
     def generate_goals(self, view: RobotView) -> list[Cell]:
-        """Step 1: random goal points among the reachable frontier cells near the robot."""
+        """Step 1: random goal points among the reachable frontier cells near the robot.
+
+        The candidates are the reachable frontier cells (not the robot's own) farther
+        than the spacing from every held goal, or all of them when none is; of those,
+        the ones at most ``generation_radius`` beyond the nearest. Two searches find
+        them: one stopped at the nearest candidate, one bounded just beyond it.
+        """
         frontier = frontier_mask(view.belief)
         if not frontier.any():
             return []
-        dist = distance_field(self.distances(view).free, view.position, targets=frontier)
-        rows, cols = reachable_frontier_cells(frontier, dist)
-        if rows.size == 0:
-            return []
-        self.foreign_goals = {g: r for g, r in self.foreign_goals.items() if frontier[g]}
+        distances = self.distances(view)
+        fields, free = distances.fields, distances.free
+        foreign_goals = {g: r for g, r in self.foreign_goals.items() if frontier[g]}
         spacing = self.goal_spacing or view.sensor_range
-        held = self.tour + [g for g, r in self.foreign_goals.items() if r in view.subnetwork]
-        unclaimed = np.ones(rows.size, dtype=bool)
+        held = self.tour + [g for g, r in foreign_goals.items() if r in view.subnetwork]
+        candidates = frontier.copy()
+        candidates[view.position] = False
+        unclaimed = candidates.copy()
         for row, col in held:
-            unclaimed &= np.hypot(rows - row, cols - col) > spacing
+            clear_disk(unclaimed, row, col, spacing)
+        complete = False  # whether the field in the workspace covers the whole component
         if unclaimed.any():
-            rows, cols = rows[unclaimed], cols[unclaimed]
-        cost = dist[rows, cols]
-        near = cost <= cost.min() + self.generation_radius
-        rows, cols = rows[near], cols[near]
+            field = fields.search(free, view.position, targets=unclaimed, stop_after=1)
+            mask, nearest = unclaimed, fields.nearest(unclaimed)
+            if not np.isfinite(nearest):  # none reachable: the search went everywhere
+                complete = True
+                mask, nearest = candidates, fields.nearest(candidates)
+        else:
+            field = fields.search(free, view.position, targets=candidates, stop_after=1)
+            mask, nearest = candidates, fields.nearest(candidates)
+        if not np.isfinite(nearest):
+            fields.release()
+            return []
+        self.foreign_goals = foreign_goals
+        bound = nearest + self.generation_radius
+        if not complete:
+            field = fields.search(free, view.position, max_distance=bound)
+        rows, cols = cells_within(field, mask, view.position, bound)
+        fields.release()
         chosen = spread_goals(rows, cols, self.goals_per_round, spacing, view.rng)
         return [(int(rows[i]), int(cols[i])) for i in chosen]
 
@@ -662,7 +727,7 @@ class ZlotMarket(Strategy):
             goal = self.tour[0]
             if view.goal == goal:
                 return
-            path = path_to(self.distances(view).free, view.position, goal)
+            path = self.distances(view).path(view.position, goal)
             if path is not None:
                 decision.goal, decision.path = goal, path
                 return
