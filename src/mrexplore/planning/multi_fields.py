@@ -37,7 +37,6 @@ __all__ = [
     "FieldWorkspace",
     "min_touched",
     "raster_cells",
-    "reachable_cells",
     "reset_box",
     "reset_touched",
     "shared_workspace",
@@ -61,22 +60,6 @@ def raster_cells(
     index = np.flatnonzero(mask).astype(np.int64, copy=False)
     rows, cols = np.divmod(index, mask.shape[1])
     return index, rows, cols
-
-
-def reachable_cells(
-    mask: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-    """Rows and cols (raster order) of the cells of ``mask`` with a finite, positive
-    ``dist`` (the source excluded): ``reachable_frontier_cells`` of
-    :mod:`mrexplore.strategies.base` through :func:`raster_cells`.
-
-    >>> reachable_cells(np.array([[True, True, True]]), np.array([[0.0, 1.0, np.inf]]))
-    (array([0]), array([1]))
-    """
-    index, rows, cols = raster_cells(mask)
-    at = dist.reshape(-1)[index]
-    keep = np.isfinite(at) & (at > 0)
-    return rows[keep], cols[keep]
 
 
 @numba.njit(cache=True, nogil=True)

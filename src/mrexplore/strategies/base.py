@@ -232,8 +232,14 @@ def reachable_frontier_cells(
     frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """Rows and cols (raster order) of frontier cells with a finite distance, excluding the
-    robot's own cell."""
-    rows, cols = np.nonzero(frontier)  # few cells: index the field there only
-    at = dist[rows, cols]
+    robot's own cell.
+
+    >>> reachable_frontier_cells(np.array([[True, True, True]]), np.array([[0.0, 1.0, np.inf]]))
+    (array([0]), array([1]))
+    """
+    from mrexplore.planning.multi_fields import raster_cells
+
+    index, rows, cols = raster_cells(frontier)  # few cells: index the field there only
+    at = dist.reshape(-1)[index]
     keep = np.isfinite(at) & (at > 0)
     return rows[keep], cols[keep]

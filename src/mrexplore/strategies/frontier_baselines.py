@@ -58,7 +58,6 @@ import numpy.typing as npt
 
 from mrexplore.planning import frontier_clusters
 from mrexplore.planning.frontier_search import nearest_frontier
-from mrexplore.planning.multi_fields import reachable_cells
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -66,6 +65,7 @@ from mrexplore.strategies.base import (
     Param,
     ReplanRules,
     RobotView,
+    reachable_frontier_cells,
 )
 
 
@@ -100,9 +100,9 @@ class _FrontierBaseline(FrontierStrategy):
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
     ) -> Cell | None:
         targets = _large_clusters_only(frontier, self.min_frontier_size)
-        rows, cols = reachable_cells(targets, dist)
+        rows, cols = reachable_frontier_cells(targets, dist)
         if rows.size == 0 and targets is not frontier:
-            rows, cols = reachable_cells(frontier, dist)
+            rows, cols = reachable_frontier_cells(frontier, dist)
         if rows.size == 0:
             return None
         index = self.pick(view, dist[rows, cols])

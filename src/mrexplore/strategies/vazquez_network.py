@@ -316,7 +316,6 @@ from mrexplore.planning.multi_disks import disks_mask
 from mrexplore.planning.multi_fields import (
     FieldWorkspace,
     raster_cells,
-    reachable_cells,
     shared_workspace,
 )
 from mrexplore.strategies.base import (
@@ -329,6 +328,7 @@ from mrexplore.strategies.base import (
     Strategy,
     frontier_at,
     passable,
+    reachable_frontier_cells,
 )
 
 POSITION = "position"
@@ -1266,7 +1266,7 @@ class VazquezNetwork(Strategy, ReplanRules):
                 rows, cols = np.asarray(obstacles).T
                 grid[rows, cols] = False
             dist = self._fields.search(grid, view.position, targets=targets)
-            rows, cols = reachable_cells(targets, dist)
+            rows, cols = reachable_frontier_cells(targets, dist)
             if rows.size:
                 break
         if rows.size == 0:
