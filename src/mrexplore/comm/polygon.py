@@ -166,12 +166,12 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES, SEQ_BYTES
 from mrexplore.comm.messages import Message
+from mrexplore.comm.polygon_inbound import Box, MapVersion, SharedMaps, rasterise_into, union
 from mrexplore.comm.polygon_kernels import (
     edge_deviation,
     edge_deviations,
     farthest_point,
     match_vertices,
-    rasterise,
     trace_contours,
 )
 from mrexplore.comm.polygon_packages import (
@@ -202,7 +202,6 @@ __all__ = ["EP", "ES", "TPT", "VP", "B", "PolygonSharing"]
 
 IntArray = npt.NDArray[np.int64]
 FloatArray = npt.NDArray[np.float64]
-Box = tuple[int, int, int, int]
 LAYERS = (OBSERVED_LAYER, OBSTACLE_LAYER)
 BUDGET_SLACK = 1e-9
 """Rounding slack of the split budget (ten times 0.1 splits make a split)."""
@@ -247,12 +246,19 @@ class _Tracked:
 
 @dataclass
 class _Inbound:
-    """What a receiver holds from one sender."""
+    """What a receiver holds from one sender: its copy of the map (shared with the
+    receivers that applied the same packages) and where it is in the sequence."""
 
-    map: PolygonMap = field(default_factory=PolygonMap)
+    version: MapVersion
     last_seq: int = 0
     in_sync: bool = True
     ignored_since_request: int = 0
+    dirty: Box | None = None
+    """Cells the packages applied since the last repaint changed."""
+
+    @property
+    def map(self) -> PolygonMap:
+        return self.version.map
 
 
 @dataclass
@@ -372,6 +378,7 @@ class PolygonSharing(MapSharing):
         self.gaps_detected = 0
         self._head = np.full(shape[0] * shape[1], -1, dtype=np.int64)
         self._labels = np.empty((shape[0] + 2) * (shape[1] + 2), dtype=np.int32)
+        self._maps = SharedMaps(shape)
 
     def _state(self, robot: int) -> _RobotState:
         if not self._robots:
@@ -713,16 +720,16 @@ class PolygonSharing(MapSharing):
         for message in sorted(ours, key=lambda m: (m.sender, m.payload.seq)):
             inbound = state.inbound.get(message.sender)
             if inbound is None:
-                inbound = state.inbound[message.sender] = _Inbound()
+                inbound = state.inbound[message.sender] = _Inbound(self._maps.empty(message.sender))
             payload = message.payload
             seq = int(payload.seq)
             if seq <= inbound.last_seq:
                 continue
             if isinstance(payload, Resync):
-                inbound.map.apply(payload)
+                self._apply(inbound, seq, payload)
                 inbound.in_sync = True
             elif inbound.in_sync and seq == inbound.last_seq + 1:
-                inbound.map.apply(payload)
+                self._apply(inbound, seq, payload)
             else:
                 self.gaps_detected += int(inbound.in_sync)
                 if inbound.in_sync or inbound.ignored_since_request >= REQUEST_AGAIN_AFTER:
@@ -741,35 +748,29 @@ class PolygonSharing(MapSharing):
             inbound.last_seq = seq
         box: Box | None = None
         for inbound in state.inbound.values():
-            dirty = inbound.map.take_dirty()
-            if dirty is not None:
-                box = dirty if box is None else _union(box, dirty)
+            box = union(box, inbound.dirty)
+            inbound.dirty = None
         if box is None:
             return 0
         return self._paint(state, belief, box)
 
+    def _apply(self, inbound: _Inbound, seq: int, payload: Payload) -> None:
+        inbound.version, changed = self._maps.advance(inbound.version, seq, payload)
+        inbound.dirty = union(inbound.dirty, changed)
+
     def _paint(self, state: _RobotState, belief: BeliefGrid, box: Box) -> int:
-        """Rasterise the received polygons inside ``box`` into ``belief``."""
+        """Compose the received rasters inside ``box`` into ``belief``."""
         height, width = self.shape
         x0, y0 = max(box[0], 0), max(box[1], 0)
         x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
         if x1 < x0 or y1 < y0:
             return 0
-        window = (y0, y1 + 1, x0, x1 + 1)
         free = np.zeros((y1 - y0 + 1, x1 - x0 + 1), dtype=bool)
         occupied = np.zeros_like(free)
         for inbound in state.inbound.values():
-            for layer, out in ((OBSERVED_LAYER, free), (OBSTACLE_LAYER, occupied)):
-                selected = [
-                    p.xy
-                    for p in inbound.map.polygons.values()
-                    if p.layer == layer
-                    and p.bbox[0] <= x1
-                    and p.bbox[2] >= x0
-                    and p.bbox[1] <= y1
-                    and p.bbox[3] >= y0
-                ]
-                _rasterise_into(selected, window, out)
+            sender_free, sender_occupied = self._maps.rasters(inbound.version)
+            free |= sender_free[y0 : y1 + 1, x0 : x1 + 1]
+            occupied |= sender_occupied[y0 : y1 + 1, x0 : x1 + 1]
         composite = _compose(free, occupied)
         target = belief[y0 : y1 + 1, x0 : x1 + 1]
         write = (state.own[y0 : y1 + 1, x0 : x1 + 1] == UNKNOWN) & (target != composite)
@@ -810,10 +811,9 @@ class PolygonSharing(MapSharing):
         height, width = self.shape
         free = np.zeros((height, width), dtype=bool)
         occupied = np.zeros_like(free)
-        window = (0, height, 0, width)
         for layer, out in ((OBSERVED_LAYER, free), (OBSTACLE_LAYER, occupied)):
             selected = [t.xy(width) for t in state.tracked.values() if t.layer == layer]
-            _rasterise_into(selected, window, out)
+            rasterise_into(selected, 0, 0, out)
         return _compose(free, occupied)
 
     def approximation_error(self, robot: int) -> float:
@@ -897,23 +897,6 @@ def _runs(ids: IntArray, sources: IntArray, positions: IntArray, lengths: IntArr
     starts = np.flatnonzero(~follows)
     ends = np.append(starts[1:], starts[0] + m) - 1
     return np.column_stack([ids[starts], ids[ends % m]]).astype(np.int64)
-
-
-def _union(a: Box, b: Box) -> Box:
-    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
-
-
-def _rasterise_into(
-    polygons: list[npt.NDArray[np.int32]],
-    window: tuple[int, int, int, int],
-    out: npt.NDArray[np.bool_],
-) -> None:
-    """Even-odd fill plus edges of ``polygons`` (one sender's layer), ORed into ``out``."""
-    if not polygons:
-        return
-    offsets = np.zeros(len(polygons) + 1, dtype=np.int64)
-    offsets[1:] = np.cumsum(np.fromiter((len(p) for p in polygons), np.int64, len(polygons)))
-    rasterise(np.concatenate(polygons), offsets, window[0], window[2], out)
 
 
 def _compose(free: npt.NDArray[np.bool_], occupied: npt.NDArray[np.bool_]) -> BeliefGrid:

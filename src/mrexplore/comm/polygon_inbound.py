@@ -1,0 +1,216 @@
+"""Receivers' copies of the senders' polygon maps, shared between receivers, with rasters.
+
+What a receiver holds from a sender (a :class:`~mrexplore.comm.polygon_packages.PolygonMap`)
+depends only on the packages it applied: the last full resync (or none) and the
+increments after it, which a receiver applies in sequence order and without gaps
+(:mod:`mrexplore.comm.polygon`). So a copy is named by ``(sender, base, applied)``:
+``base`` the sequence number of that resync (0: from the start), ``applied`` the last
+sequence number applied. Receivers that applied the same packages hold the same
+map; under broadcast every receiver of a sender does, and replaying each package
+once per receiver, then rasterising each copy again, was most of the mechanism's
+time. Here one :class:`MapVersion` per name is kept and shared:
+
+* a receiver moving on to a name some other receiver already reached takes that
+  version (and the box of cells the step changed, recorded with it);
+* otherwise it applies the package itself: to its own version when no one else
+  holds it, else to a copy (copy on write).
+
+Every version keeps the rasters of its two layers over the whole grid (per layer
+the even-odd fill plus edges of :func:`~mrexplore.comm.polygon_kernels.rasterise`),
+brought up to date lazily: applying packages only widens :attr:`MapVersion.stale`,
+and :meth:`SharedMaps.rasters` rasterises that box again before the rasters are read.
+A window of a whole-grid raster is the raster of the window (rows are filled from
+the crossings of every edge, polygons outside the window add an even number of
+crossings left of it or none), so a receiver composes its belief from these
+rasters exactly as it would from rasterising the window itself.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from mrexplore.comm.polygon_kernels import rasterise
+from mrexplore.comm.polygon_packages import (
+    OBSERVED_LAYER,
+    OBSTACLE_LAYER,
+    Payload,
+    Polygon,
+    PolygonMap,
+    Resync,
+)
+
+Box = tuple[int, int, int, int]
+"""Cells ``(x_min, y_min, x_max, y_max)``, inclusive."""
+Name = tuple[int, int, int]
+"""``(sender, base, applied)``: which packages a copy of a sender's map is made of."""
+
+
+def union(a: Box | None, b: Box | None) -> Box | None:
+    """The smallest box holding ``a`` and ``b`` (``None`` = empty)."""
+    if a is None:
+        return b
+    if b is None:
+        return a
+    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
+
+
+@dataclass(eq=False)
+class MapVersion:
+    """One sender's map after the packages named by :attr:`name`, and its rasters.
+
+    Attributes:
+        name: ``(sender, base, applied)``, see the module docstring.
+        map: the polygons.
+        free, occupied: ``H x W`` rasters of the observed and the obstacle layer;
+            valid outside :attr:`stale`.
+        stale: box where the rasters lag behind :attr:`map` (``None``: up to date).
+        step: box of cells the last package changed (how a receiver that held the
+            previous version learns what changed).
+        all_polygons: union of the bounding boxes of every polygon (what a full
+            resync replaces), ``None`` if unknown or empty.
+        holders: receivers holding this version.
+    """
+
+    name: Name
+    map: PolygonMap
+    free: npt.NDArray[np.bool_]
+    occupied: npt.NDArray[np.bool_]
+    stale: Box | None = None
+    step: Box | None = None
+    holders: int = 0
+
+
+class SharedMaps:
+    """Every receiver's copy of every sender's map, one :class:`MapVersion` per name."""
+
+    def __init__(self, shape: tuple[int, int]) -> None:
+        self.shape = shape
+        self.versions: dict[Name, MapVersion] = {}
+
+    def _new(self, name: Name, polygon_map: PolygonMap) -> MapVersion:
+        version = MapVersion(
+            name, polygon_map, np.zeros(self.shape, dtype=bool), np.zeros(self.shape, dtype=bool)
+        )
+        self.versions[name] = version
+        return version
+
+    def empty(self, sender: int) -> MapVersion:
+        """The map of ``sender`` before any package (taken by the caller)."""
+        version = self.versions.get((sender, 0, 0)) or self._new((sender, 0, 0), PolygonMap())
+        version.holders += 1
+        return version
+
+    def release(self, version: MapVersion) -> None:
+        version.holders -= 1
+        if version.holders == 0 and self.versions.get(version.name) is version:
+            del self.versions[version.name]
+
+    def advance(
+        self, version: MapVersion, seq: int, payload: Payload
+    ) -> tuple[MapVersion, Box | None]:
+        """Apply the package ``seq`` to a receiver's ``version``.
+
+        The caller gives up ``version`` and holds the returned one. Returns it and
+        the box of cells whose raster the package changed (``None``: none).
+        """
+        sender, base, _ = version.name
+        if isinstance(payload, Resync):
+            # A resync replaces everything held: the old polygons' cells change too.
+            replaced = _polygons_box(version.map)
+            name = (sender, seq, seq)
+            target = self.versions.get(name)
+            if target is None:
+                polygon_map = PolygonMap()
+                polygon_map.apply(payload)
+                target = self._new(name, polygon_map)
+                target.step = polygon_map.take_dirty()
+                target.stale = target.step
+            self.release(version)
+            target.holders += 1
+            return target, union(replaced, target.step)
+        name = (sender, base, seq)
+        target = self.versions.get(name)
+        if target is None:
+            if version.holders == 1:
+                del self.versions[version.name]
+                target = version
+            else:
+                version.holders -= 1
+                target = MapVersion(
+                    version.name,
+                    _copy_map(version.map),
+                    version.free.copy(),
+                    version.occupied.copy(),
+                    version.stale,
+                    holders=1,
+                )
+            target.name = name
+            self.versions[name] = target
+            target.map.apply(payload)
+            target.step = target.map.take_dirty()
+            target.stale = union(target.stale, target.step)
+            return target, target.step
+        self.release(version)
+        target.holders += 1
+        return target, target.step
+
+    def rasters(self, version: MapVersion) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
+        """``version``'s up-to-date ``(free, occupied)`` rasters (read only)."""
+        if version.stale is not None:
+            height, width = self.shape
+            box = version.stale
+            x0, y0 = max(box[0], 0), max(box[1], 0)
+            x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
+            if x0 <= x1 and y0 <= y1:
+                polygons = version.map.polygons.values()
+                for layer, raster in (
+                    (OBSERVED_LAYER, version.free),
+                    (OBSTACLE_LAYER, version.occupied),
+                ):
+                    window = raster[y0 : y1 + 1, x0 : x1 + 1]
+                    window[:] = False
+                    selected = [
+                        p.xy
+                        for p in polygons
+                        if p.layer == layer
+                        and p.bbox[0] <= x1
+                        and p.bbox[2] >= x0
+                        and p.bbox[1] <= y1
+                        and p.bbox[3] >= y0
+                    ]
+                    rasterise_into(selected, y0, x0, window)
+            version.stale = None
+        return version.free, version.occupied
+
+
+def rasterise_into(
+    polygons: list[npt.NDArray[np.int32]], row0: int, col0: int, out: npt.NDArray[np.bool_]
+) -> None:
+    """Even-odd fill plus edges of ``polygons`` (one sender's layer), ORed into ``out``,
+    whose cell ``[0, 0]`` is grid cell ``(row0, col0)``."""
+    if not polygons:
+        return
+    offsets = np.zeros(len(polygons) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum(np.fromiter((len(p) for p in polygons), np.int64, len(polygons)))
+    rasterise(np.concatenate(polygons), offsets, row0, col0, out)
+
+
+def _polygons_box(polygon_map: PolygonMap) -> Box | None:
+    box: Box | None = None
+    for polygon in polygon_map.polygons.values():
+        box = union(box, polygon.bbox)
+    return box
+
+
+def _copy_map(polygon_map: PolygonMap) -> PolygonMap:
+    """A copy that applying packages to leaves ``polygon_map`` alone (a polygon's
+    arrays are replaced, never written, so they are shared)."""
+    copy = PolygonMap()
+    copy.polygons = {
+        pid: Polygon(p.layer, p.ids, p.xy, p.bbox) for pid, p in polygon_map.polygons.items()
+    }
+    copy.owner = dict(polygon_map.owner)
+    return copy
