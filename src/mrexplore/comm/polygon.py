@@ -717,6 +717,9 @@ class PolygonSharing(MapSharing):
         if any(m.type == RESYNC_REQUEST for m in messages):
             state.resync_requested = True  # answered by a full resync at the next tick
         ours = [m for m in messages if m.type in MAP_PACKAGE_TYPES and m.sender != robot]
+        # Increments are applied in runs (one per sender and tick, as a rule), so
+        # that receivers of the same runs share the result (polygon_inbound).
+        pending: dict[int, list[tuple[int, Payload]]] = {}
         for message in sorted(ours, key=lambda m: (m.sender, m.payload.seq)):
             inbound = state.inbound.get(message.sender)
             if inbound is None:
@@ -726,10 +729,12 @@ class PolygonSharing(MapSharing):
             if seq <= inbound.last_seq:
                 continue
             if isinstance(payload, Resync):
-                self._apply(inbound, seq, payload)
+                self._apply(inbound, pending.pop(message.sender, []))
+                inbound.version, changed = self._maps.resync(inbound.version, seq, payload)
+                inbound.dirty = union(inbound.dirty, changed)
                 inbound.in_sync = True
             elif inbound.in_sync and seq == inbound.last_seq + 1:
-                self._apply(inbound, seq, payload)
+                pending.setdefault(message.sender, []).append((seq, payload))
             else:
                 self.gaps_detected += int(inbound.in_sync)
                 if inbound.in_sync or inbound.ignored_since_request >= REQUEST_AGAIN_AFTER:
@@ -746,6 +751,8 @@ class PolygonSharing(MapSharing):
                 inbound.ignored_since_request += 1
                 inbound.in_sync = False
             inbound.last_seq = seq
+        for sender, packages in pending.items():
+            self._apply(state.inbound[sender], packages)
         box: Box | None = None
         for inbound in state.inbound.values():
             box = union(box, inbound.dirty)
@@ -754,9 +761,10 @@ class PolygonSharing(MapSharing):
             return 0
         return self._paint(state, belief, box)
 
-    def _apply(self, inbound: _Inbound, seq: int, payload: Payload) -> None:
-        inbound.version, changed = self._maps.advance(inbound.version, seq, payload)
-        inbound.dirty = union(inbound.dirty, changed)
+    def _apply(self, inbound: _Inbound, packages: list[tuple[int, Payload]]) -> None:
+        if packages:
+            inbound.version, changed = self._maps.advance(inbound.version, packages)
+            inbound.dirty = union(inbound.dirty, changed)
 
     def _paint(self, state: _RobotState, belief: BeliefGrid, box: Box) -> int:
         """Compose the received rasters inside ``box`` into ``belief``."""

@@ -27,7 +27,7 @@ rasters exactly as it would from rasterising the window itself.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -37,7 +37,6 @@ from mrexplore.comm.polygon_packages import (
     OBSERVED_LAYER,
     OBSTACLE_LAYER,
     Payload,
-    Polygon,
     PolygonMap,
     Resync,
 )
@@ -57,6 +56,10 @@ def union(a: Box | None, b: Box | None) -> Box | None:
     return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
+STEPS_KEPT = 64
+"""Boxes of the last this many packages a version remembers (see :attr:`MapVersion.steps`)."""
+
+
 @dataclass(eq=False)
 class MapVersion:
     """One sender's map after the packages named by :attr:`name`, and its rasters.
@@ -67,10 +70,10 @@ class MapVersion:
         free, occupied: ``H x W`` rasters of the observed and the obstacle layer;
             valid outside :attr:`stale`.
         stale: box where the rasters lag behind :attr:`map` (``None``: up to date).
-        step: box of cells the last package changed (how a receiver that held the
-            previous version learns what changed).
-        all_polygons: union of the bounding boxes of every polygon (what a full
-            resync replaces), ``None`` if unknown or empty.
+        steps: for the last packages that led here, by sequence number, the box of
+            cells the package changed (``None``: none), which is how a receiver
+            that held an earlier version learns what changed. For a resync, the
+            box of its polygons (what it replaced is the receiver's business).
         holders: receivers holding this version.
     """
 
@@ -79,7 +82,7 @@ class MapVersion:
     free: npt.NDArray[np.bool_]
     occupied: npt.NDArray[np.bool_]
     stale: Box | None = None
-    step: Box | None = None
+    steps: dict[int, Box | None] = field(default_factory=dict)
     holders: int = 0
 
 
@@ -108,54 +111,77 @@ class SharedMaps:
         if version.holders == 0 and self.versions.get(version.name) is version:
             del self.versions[version.name]
 
-    def advance(
-        self, version: MapVersion, seq: int, payload: Payload
+    def resync(
+        self, version: MapVersion, seq: int, payload: Resync
     ) -> tuple[MapVersion, Box | None]:
-        """Apply the package ``seq`` to a receiver's ``version``.
+        """Apply the full resync ``seq`` to a receiver's ``version``.
 
         The caller gives up ``version`` and holds the returned one. Returns it and
         the box of cells whose raster the package changed (``None``: none).
         """
-        sender, base, _ = version.name
-        if isinstance(payload, Resync):
-            # A resync replaces everything held: the old polygons' cells change too.
-            replaced = _polygons_box(version.map)
-            name = (sender, seq, seq)
-            target = self.versions.get(name)
-            if target is None:
-                polygon_map = PolygonMap()
-                polygon_map.apply(payload)
-                target = self._new(name, polygon_map)
-                target.step = polygon_map.take_dirty()
-                target.stale = target.step
-            self.release(version)
-            target.holders += 1
-            return target, union(replaced, target.step)
-        name = (sender, base, seq)
+        # A resync replaces everything held: the old polygons' cells change too.
+        replaced = _polygons_box(version.map)
+        name = (version.name[0], seq, seq)
         target = self.versions.get(name)
         if target is None:
-            if version.holders == 1:
-                del self.versions[version.name]
-                target = version
-            else:
-                version.holders -= 1
-                target = MapVersion(
-                    version.name,
-                    _copy_map(version.map),
-                    version.free.copy(),
-                    version.occupied.copy(),
-                    version.stale,
-                    holders=1,
-                )
-            target.name = name
-            self.versions[name] = target
-            target.map.apply(payload)
-            target.step = target.map.take_dirty()
-            target.stale = union(target.stale, target.step)
-            return target, target.step
+            polygon_map = PolygonMap()
+            polygon_map.apply(payload)
+            target = self._new(name, polygon_map)
+            target.stale = polygon_map.take_dirty()
+            target.steps[seq] = target.stale
         self.release(version)
         target.holders += 1
-        return target, target.step
+        return target, union(replaced, target.steps[seq])
+
+    def advance(
+        self, version: MapVersion, packages: list[tuple[int, Payload]]
+    ) -> tuple[MapVersion, Box | None]:
+        """Apply the increments ``packages`` (``(seq, payload)``, consecutive sequence
+        numbers following ``version``'s) to a receiver's ``version``.
+
+        The caller gives up ``version`` and holds the returned one. Returns it and
+        the box of cells whose raster the packages changed (``None``: none).
+        """
+        sender, base, _ = version.name
+        name = (sender, base, packages[-1][0])
+        target = self.versions.get(name)
+        if target is not None and all(seq in target.steps for seq, _ in packages):
+            self.release(version)
+            target.holders += 1
+            box: Box | None = None
+            for seq, _ in packages:
+                box = union(box, target.steps[seq])
+            return target, box
+        # (A version of this name reached by other packages lacks our steps; ours
+        # replaces it in the store, its holders keep it.)
+        if version.holders == 1:
+            if self.versions.get(version.name) is version:
+                del self.versions[version.name]
+            target = version
+        else:
+            version.holders -= 1
+            target = MapVersion(
+                version.name,
+                version.map.copy(),
+                version.free.copy(),
+                version.occupied.copy(),
+                version.stale,
+                dict(version.steps),
+                holders=1,
+            )
+        target.name = name
+        self.versions[name] = target
+        box = None
+        for seq, payload in packages:
+            target.map.apply(payload)
+            step = target.map.take_dirty()
+            target.steps[seq] = step
+            box = union(box, step)
+        target.stale = union(target.stale, box)
+        if len(target.steps) > STEPS_KEPT:
+            oldest = packages[-1][0] - STEPS_KEPT
+            target.steps = {seq: b for seq, b in target.steps.items() if seq > oldest}
+        return target, box
 
     def rasters(self, version: MapVersion) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
         """``version``'s up-to-date ``(free, occupied)`` rasters (read only)."""
@@ -203,14 +229,3 @@ def _polygons_box(polygon_map: PolygonMap) -> Box | None:
     for polygon in polygon_map.polygons.values():
         box = union(box, polygon.bbox)
     return box
-
-
-def _copy_map(polygon_map: PolygonMap) -> PolygonMap:
-    """A copy that applying packages to leaves ``polygon_map`` alone (a polygon's
-    arrays are replaced, never written, so they are shared)."""
-    copy = PolygonMap()
-    copy.polygons = {
-        pid: Polygon(p.layer, p.ids, p.xy, p.bbox) for pid, p in polygon_map.polygons.items()
-    }
-    copy.owner = dict(polygon_map.owner)
-    return copy

@@ -314,12 +314,23 @@ class PolygonMap:
     Applying a package also records, in :attr:`dirty`, a box of cells
     ``(x_min, y_min, x_max, y_max)`` outside of which the rasterised map did not
     change (``None`` = nothing changed since :meth:`take_dirty`).
+
+    A changed polygon is replaced by a new :class:`Polygon`, never modified, so
+    :meth:`copy` can share the polygons with the copy.
     """
 
     def __init__(self) -> None:
         self.polygons: dict[int, Polygon] = {}
         self.owner: dict[int, int] = {}
         self.dirty: tuple[int, int, int, int] | None = None
+
+    def copy(self) -> PolygonMap:
+        """A map with the same polygons that packages can be applied to separately."""
+        copy = PolygonMap()
+        copy.polygons = dict(self.polygons)
+        copy.owner = dict(self.owner)
+        copy.dirty = self.dirty
+        return copy
 
     def take_dirty(self) -> tuple[int, int, int, int] | None:
         """The dirty box, which is reset."""
@@ -347,8 +358,12 @@ class PolygonMap:
         if polygon.ids.size == 1:
             del self.polygons[polygon_id]
             return
-        polygon.ids = np.concatenate((polygon.ids[:position], polygon.ids[position + 1 :]))
-        polygon.xy = np.concatenate((polygon.xy[:position], polygon.xy[position + 1 :]))
+        self.polygons[polygon_id] = Polygon(
+            polygon.layer,
+            np.concatenate((polygon.ids[:position], polygon.ids[position + 1 :])),
+            np.concatenate((polygon.xy[:position], polygon.xy[position + 1 :])),
+            polygon.bbox,
+        )
 
     def _define(self, record: PolygonRecord) -> None:
         old = self.polygons.pop(record.polygon_id, None)
@@ -427,15 +442,16 @@ class PolygonMap:
         polygon = self.polygons[polygon_id]
         position = int(np.flatnonzero(polygon.ids == after)[0]) + 1
         x, y, point_id = int(point[0]), int(point[1]), int(point[2])
-        ids, xy = polygon.ids, polygon.xy
-        polygon.ids = np.concatenate((ids[:position], np.array([point_id]), ids[position:]))
-        polygon.xy = np.concatenate(
-            (xy[:position], np.array([[x, y]], dtype=np.int32), xy[position:])
+        ids, xy, b = polygon.ids, polygon.xy, polygon.bbox
+        polygon = Polygon(
+            polygon.layer,
+            np.concatenate((ids[:position], np.array([point_id]), ids[position:])),
+            np.concatenate((xy[:position], np.array([[x, y]], dtype=np.int32), xy[position:])),
+            (min(b[0], x), min(b[1], y), max(b[2], x), max(b[3], y)),
         )
+        self.polygons[polygon_id] = polygon
         self.owner[point_id] = polygon_id
         self._mark(self._neighbourhood(polygon, position))
-        b = polygon.bbox
-        polygon.bbox = (min(b[0], x), min(b[1], y), max(b[2], x), max(b[3], y))
 
     def records(self) -> list[tuple[int, int, IntArray]]:
         """``(polygon id, layer, ids)`` of every polygon, sorted by id (for comparisons)."""
