@@ -286,6 +286,9 @@ class _RobotState:
             for _ in LAYERS
         ]
         self.dirty = [False, False]
+        # Per layer, (row_min, row_max, col_min, col_max) holding every cell of the
+        # layer ever observed; the first observation replaces the empty extent.
+        self.extent = [(shape[0], -1, shape[1], -1) for _ in LAYERS]
         self.next_point_id = 0
         self.next_polygon_id = 0
         self.version = 0
@@ -298,6 +301,16 @@ class _RobotState:
         self.error_samples: list[float] = []
         self.inbound: dict[int, _Inbound] = {}
         self.resync_requested = False
+
+    def extend(self, layer: int, rows: IntArray, cols: IntArray) -> None:
+        """Widen ``layer``'s extent to hold the cells ``rows, cols`` (not empty)."""
+        row0, row1, col0, col1 = self.extent[layer]
+        self.extent[layer] = (
+            min(row0, int(rows.min())),
+            max(row1, int(rows.max())),
+            min(col0, int(cols.min())),
+            max(col1, int(cols.max())),
+        )
 
     def new_point_id(self) -> int:
         self.next_point_id += 1
@@ -400,6 +413,10 @@ class PolygonSharing(MapSharing):
                 ((values[changed] == OCCUPIED) | (old[changed] == OCCUPIED)).any()
             )
             state.own[rows, cols] = values
+            state.extend(OBSERVED_LAYER, rows[changed], cols[changed])
+            occupied = changed & (values == OCCUPIED)
+            if occupied.any():
+                state.extend(OBSTACLE_LAYER, rows[occupied], cols[occupied])
         changes = _Changes()
         for layer in LAYERS:
             if state.dirty[layer]:
@@ -486,8 +503,11 @@ class PolygonSharing(MapSharing):
     def _update_layer(self, state: _RobotState, layer: int, changes: _Changes) -> None:
         """Re-trace one layer's contours and update its polygons (paper cases 1 and 3)."""
         width = self.shape[1]
-        mask = state.own != UNKNOWN if layer == OBSERVED_LAYER else state.own == OCCUPIED
-        points, offsets, _, hashes = trace_contours(mask, self._labels)
+        # Only the box holding every cell of the layer is traced (same contours).
+        row0, row1, col0, col1 = state.extent[layer]
+        own = state.own[row0 : row1 + 1, col0 : col1 + 1]
+        mask = own != UNKNOWN if layer == OBSERVED_LAYER else own == OCCUPIED
+        points, offsets, _, hashes = trace_contours(mask, self._labels, (row0, col0), width)
         lengths = np.diff(offsets)
         old_keys, old_pids, old_lengths = state.keys[layer]
         # Contours identical to a previous one keep their polygon as it is.

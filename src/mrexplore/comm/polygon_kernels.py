@@ -43,15 +43,21 @@ def trace_contours_kernel(
     offsets: IntArray,
     holes: npt.NDArray[np.bool_],
     hashes: npt.NDArray[np.uint64],
+    row0: int,
+    col0: int,
+    grid_width: int,
 ) -> int:
     """All borders of the 8-connected components of ``mask`` (Suzuki & Abe, 1985).
 
     Args:
-        mask: ``H x W`` boolean grid, ``True`` = foreground.
+        mask: ``H x W`` boolean grid, ``True`` = foreground; the window of a larger
+            grid ``grid_width`` cells wide whose cell ``[0, 0]`` is grid cell
+            ``(row0, col0)``.
         labels: scratch of ``(H + 2) * (W + 2)`` int32, any content.
         points, offsets, holes, hashes: output buffers (see :func:`trace_contours`);
             ``offsets``, ``holes`` and ``hashes`` must hold one entry per
             foreground cell (plus one for ``offsets``), ``points`` any size.
+            Points are flat indices of the larger grid.
 
     Returns:
         The number of contours, or ``-1`` when ``points`` was too small.
@@ -129,7 +135,8 @@ def trace_contours_kernel(
             offsets[n_contours] = n_points
     for g in range(n_points):
         padded = points[g]
-        points[g] = (padded // padded_width - 1) * width + padded % padded_width - 1
+        row = padded // padded_width - 1 + row0
+        points[g] = row * grid_width + padded % padded_width - 1 + col0
     for k in range(n_contours):
         h = _HASH_SEED ^ np.uint64(1 if holes[k] else 0)
         for g in range(offsets[k], offsets[k + 1]):
@@ -140,7 +147,10 @@ def trace_contours_kernel(
 
 
 def trace_contours(
-    mask: npt.NDArray[np.bool_], scratch: npt.NDArray[np.int32] | None = None
+    mask: npt.NDArray[np.bool_],
+    scratch: npt.NDArray[np.int32] | None = None,
+    origin: tuple[int, int] = (0, 0),
+    grid_width: int | None = None,
 ) -> tuple[IntArray, IntArray, npt.NDArray[np.bool_], npt.NDArray[np.uint64]]:
     """All borders of the 8-connected components of ``mask`` (Suzuki & Abe, 1985).
 
@@ -148,6 +158,11 @@ def trace_contours(
         mask: ``H x W`` boolean grid, ``True`` = foreground.
         scratch: optional int32 buffer of at least ``(H + 2) * (W + 2)`` entries,
             reused between calls to spare an allocation.
+        origin, grid_width: ``mask`` is the window of a grid ``grid_width`` cells
+            wide (default: ``W``) whose cell ``[0, 0]`` is grid cell ``origin``
+            (row, col); points are flat indices of that grid. A window that holds
+            every foreground cell of the grid gives the grid's contours, in the
+            same order (the scan meets the foreground cells in the same order).
 
     Returns:
         ``(points, offsets, is_hole, hashes)``: contour ``k`` is
@@ -175,7 +190,17 @@ def trace_contours(
     while True:
         points = np.empty(capacity, dtype=np.int64)
         n_contours = int(
-            trace_contours_kernel(mask, scratch[:n_padded], points, offsets, holes, hashes)
+            trace_contours_kernel(
+                mask,
+                scratch[:n_padded],
+                points,
+                offsets,
+                holes,
+                hashes,
+                origin[0],
+                origin[1],
+                mask.shape[1] if grid_width is None else grid_width,
+            )
         )
         if n_contours >= 0:
             break
