@@ -172,6 +172,7 @@ from mrexplore.comm.polygon_kernels import (
     edge_deviations,
     farthest_point,
     match_vertices,
+    paint_window,
     trace_contours,
 )
 from mrexplore.comm.polygon_packages import (
@@ -233,10 +234,16 @@ class _Tracked:
     deviation: FloatArray
     farthest: IntArray
     version: int = 0
+    _xy: tuple[IntArray, npt.NDArray[np.int32]] | None = None
 
     def xy(self, width: int) -> npt.NDArray[np.int32]:
+        # Kept while ``anchors`` is the same array (it is replaced, never written).
+        if self._xy is not None and self._xy[0] is self.anchors:
+            return self._xy[1]
         cells = self.contour[self.anchors]
-        return np.stack([cells % width, cells // width], axis=1).astype(np.int32)
+        xy = np.stack([cells % width, cells // width], axis=1).astype(np.int32)
+        self._xy = (self.anchors, xy)
+        return xy
 
     def record(self, polygon_id: int, width: int) -> PolygonRecord:
         cells = self.contour[self.anchors]
@@ -799,13 +806,9 @@ class PolygonSharing(MapSharing):
             sender_free, sender_occupied = self._maps.rasters(inbound.version)
             free |= sender_free[y0 : y1 + 1, x0 : x1 + 1]
             occupied |= sender_occupied[y0 : y1 + 1, x0 : x1 + 1]
-        composite = _compose(free, occupied)
-        target = belief[y0 : y1 + 1, x0 : x1 + 1]
-        write = (state.own[y0 : y1 + 1, x0 : x1 + 1] == UNKNOWN) & (target != composite)
-        n_changed = int(np.count_nonzero(write))
-        if n_changed:
-            target[write] = composite[write]
-        return n_changed
+        window = (slice(y0, y1 + 1), slice(x0, x1 + 1))
+        own, target = state.own[window], belief[window]
+        return int(paint_window(free, occupied, own, target, FREE, OCCUPIED, UNKNOWN))
 
     # ------------------------------------------------------------------ inspection
     def polygons(self, robot: int) -> list[PolygonRecord]:

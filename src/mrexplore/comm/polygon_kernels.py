@@ -515,3 +515,40 @@ def rasterise(
                 c_last = width - 1
             for c in range(c_first, c_last + 1):
                 out[r, c] = True
+
+
+@numba.njit(cache=True, nogil=True)
+def paint_window(
+    free: npt.NDArray[np.bool_],
+    occupied: npt.NDArray[np.bool_],
+    own: npt.NDArray[np.int8],
+    belief: npt.NDArray[np.int8],
+    free_value: int,
+    occupied_value: int,
+    unknown_value: int,
+) -> int:
+    """Write occupied over free over unknown into ``belief`` where ``own`` is unknown.
+
+    All four arrays are the same window. A cell becomes ``occupied_value`` where
+    ``occupied``, else ``free_value`` where ``free``, else ``unknown_value``; cells
+    whose ``own`` value is not ``unknown_value`` are left alone.
+
+    Returns:
+        The number of cells of ``belief`` whose value changed.
+    """
+    height, width = belief.shape
+    n_changed = 0
+    for r in range(height):
+        for c in range(width):
+            if own[r, c] != unknown_value:
+                continue
+            if occupied[r, c]:
+                value = occupied_value
+            elif free[r, c]:
+                value = free_value
+            else:
+                value = unknown_value
+            if belief[r, c] != value:
+                belief[r, c] = value
+                n_changed += 1
+    return n_changed
