@@ -319,6 +319,10 @@ class _RobotState:
             max(col1, int(cols.max())),
         )
 
+    def observed_anything(self) -> bool:
+        row0, row1, col0, col1 = self.extent[OBSERVED_LAYER]
+        return bool((self.own[row0 : row1 + 1, col0 : col1 + 1] != UNKNOWN).any())
+
     def new_point_id(self) -> int:
         self.next_point_id += 1
         return self.next_point_id - 1
@@ -460,7 +464,7 @@ class PolygonSharing(MapSharing):
             if gained or state.resync_requested or self._resync_due(state, tick):
                 state.resync_requested = False
                 messages.append(self._resync(robot, state, tick))
-            if tick % ERROR_SAMPLE_EVERY == 0 and (state.own != UNKNOWN).any():
+            if tick % ERROR_SAMPLE_EVERY == 0 and state.observed_anything():
                 state.error_samples.append(self.approximation_error(robot))
         return messages
 
@@ -838,13 +842,18 @@ class PolygonSharing(MapSharing):
 
     def polygon_map(self, robot: int) -> BeliefGrid:
         """``robot``'s own polygons rasterised over the whole grid (occupied > free > unknown)."""
-        state = self._state(robot)
         height, width = self.shape
-        free = np.zeros((height, width), dtype=bool)
+        return self._polygon_window(self._state(robot), (0, height - 1, 0, width - 1))
+
+    def _polygon_window(self, state: _RobotState, window: tuple[int, int, int, int]) -> BeliefGrid:
+        """The window ``(row_min, row_max, col_min, col_max)`` of the robot's polygon map."""
+        row0, row1, col0, col1 = window
+        free = np.zeros((row1 - row0 + 1, col1 - col0 + 1), dtype=bool)
         occupied = np.zeros_like(free)
+        width = self.shape[1]
         for layer, out in ((OBSERVED_LAYER, free), (OBSTACLE_LAYER, occupied)):
             selected = [t.xy(width) for t in state.tracked.values() if t.layer == layer]
-            rasterise_into(selected, 0, 0, out)
+            rasterise_into(selected, row0, col0, out)
         return _compose(free, occupied)
 
     def approximation_error(self, robot: int) -> float:
@@ -856,11 +865,16 @@ class PolygonSharing(MapSharing):
         measured against the robot's own map.
         """
         state = self._state(robot)
-        observed = state.own != UNKNOWN
+        # Every observed cell lies in the observed layer's extent.
+        row0, row1, col0, col1 = state.extent[OBSERVED_LAYER]
+        if row1 < row0:
+            return 0.0
+        own = state.own[row0 : row1 + 1, col0 : col1 + 1]
+        observed = own != UNKNOWN
         n_observed = int(np.count_nonzero(observed))
         if n_observed == 0:
             return 0.0
-        wrong = observed & (self.polygon_map(robot) != state.own)
+        wrong = observed & (self._polygon_window(state, (row0, row1, col0, col1)) != own)
         return int(np.count_nonzero(wrong)) / n_observed
 
     def approximation_errors(self) -> list[float]:
