@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from mrexplore.comm.messages import Message
 from mrexplore.comm.polygon import PolygonSharing
 from mrexplore.comm.polygon_inbound import SharedMaps
-from mrexplore.comm.polygon_kernels import paint_window, rasterise, trace_contours
+from mrexplore.comm.polygon_kernels import paint_box, rasterise, trace_contours
 from mrexplore.comm.polygon_packages import OBSERVED_LAYER, OBSTACLE_LAYER
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, new_belief
 from test_polygon_sharing import observations, office  # the same walk through the office
@@ -27,23 +27,34 @@ CELL_VALUES = np.array([UNKNOWN, FREE, OCCUPIED], dtype=np.int8)
 @given(
     height=st.integers(1, 12),
     width=st.integers(1, 12),
+    n_senders=st.integers(0, 4),
     seed=st.integers(0, 2**32 - 1),
 )
-def test_paint_window_is_the_numpy_composition(height: int, width: int, seed: int) -> None:
+def test_paint_box_is_the_numpy_composition(
+    height: int, width: int, n_senders: int, seed: int
+) -> None:
     rng = np.random.default_rng(seed)
-    free = rng.random((height, width)) < 0.5
-    occupied = rng.random((height, width)) < 0.3
+    rasters = rng.random((n_senders + 2, 2, height, width)) < 0.3
+    slots = rng.permutation(n_senders + 2)[:n_senders].astype(np.int64)
     own = CELL_VALUES[rng.integers(0, 3, (height, width))]
     belief = CELL_VALUES[rng.integers(0, 3, (height, width))]
-    # Occupied over free over unknown, written where the robot observed nothing.
+    row0, col0 = int(rng.integers(0, height)), int(rng.integers(0, width))
+    row1, col1 = int(rng.integers(row0, height)), int(rng.integers(col0, width))
+    # Occupied over free over unknown across the senders, written in the box
+    # where the robot observed nothing.
+    free = rasters[slots, 0].any(axis=0)
+    occupied = rasters[slots, 1].any(axis=0)
     composite = np.full((height, width), UNKNOWN, dtype=np.int8)
     composite[free] = FREE
     composite[occupied] = OCCUPIED
-    write = (own == UNKNOWN) & (belief != composite)
+    inside = np.zeros((height, width), dtype=bool)
+    inside[row0 : row1 + 1, col0 : col1 + 1] = True
+    write = inside & (own == UNKNOWN) & (belief != composite)
     expected = belief.copy()
     expected[write] = composite[write]
     got = belief.copy()
-    n_changed = paint_window(free, occupied, own, got, FREE, OCCUPIED, UNKNOWN)
+    box = (row0, row1, col0, col1)
+    n_changed = paint_box(rasters, slots, own, got, box, FREE, OCCUPIED, UNKNOWN)
     assert n_changed == int(np.count_nonzero(write))
     np.testing.assert_array_equal(got, expected)
 
@@ -77,8 +88,9 @@ def _raster(polygons: list[npt.NDArray[np.int32]], shape: tuple[int, int]) -> np
 def _check_rasters(maps: SharedMaps) -> None:
     """Every version's rasters are its polygons rasterised over the whole grid."""
     for version in list(maps.versions.values()):
-        free, occupied = maps.rasters(version)
-        for layer, raster in ((OBSERVED_LAYER, free), (OBSTACLE_LAYER, occupied)):
+        maps.refresh(version)
+        for layer in (OBSERVED_LAYER, OBSTACLE_LAYER):
+            raster = maps.rasters[version.slot, layer]
             polygons = [p.xy for p in version.map.polygons.values() if p.layer == layer]
             np.testing.assert_array_equal(raster, _raster(polygons, maps.shape))
 

@@ -172,7 +172,7 @@ from mrexplore.comm.polygon_kernels import (
     edge_deviations,
     farthest_point,
     match_vertices,
-    paint_window,
+    paint_box,
     trace_contours,
 )
 from mrexplore.comm.polygon_packages import (
@@ -804,15 +804,22 @@ class PolygonSharing(MapSharing):
         x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
         if x1 < x0 or y1 < y0:
             return 0
-        free = np.zeros((y1 - y0 + 1, x1 - x0 + 1), dtype=bool)
-        occupied = np.zeros_like(free)
-        for inbound in state.inbound.values():
-            sender_free, sender_occupied = self._maps.rasters(inbound.version)
-            free |= sender_free[y0 : y1 + 1, x0 : x1 + 1]
-            occupied |= sender_occupied[y0 : y1 + 1, x0 : x1 + 1]
-        window = (slice(y0, y1 + 1), slice(x0, x1 + 1))
-        own, target = state.own[window], belief[window]
-        return int(paint_window(free, occupied, own, target, FREE, OCCUPIED, UNKNOWN))
+        slots = np.empty(len(state.inbound), dtype=np.int64)
+        for i, inbound in enumerate(state.inbound.values()):
+            self._maps.refresh(inbound.version)
+            slots[i] = inbound.version.slot
+        return int(
+            paint_box(
+                self._maps.rasters,
+                slots,
+                state.own,
+                belief,
+                (y0, y1, x0, x1),
+                FREE,
+                OCCUPIED,
+                UNKNOWN,
+            )
+        )
 
     # ------------------------------------------------------------------ inspection
     def polygons(self, robot: int) -> list[PolygonRecord]:

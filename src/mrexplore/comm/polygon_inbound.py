@@ -17,8 +17,9 @@ time. Here one :class:`MapVersion` per name is kept and shared:
 
 Every version keeps the rasters of its two layers over the whole grid (per layer
 the even-odd fill plus edges of :func:`~mrexplore.comm.polygon_kernels.rasterise`),
-brought up to date lazily: applying packages only widens :attr:`MapVersion.stale`,
-and :meth:`SharedMaps.rasters` rasterises that box again before the rasters are read.
+in a slot of one array for all versions (:attr:`SharedMaps.rasters`), brought up
+to date lazily: applying packages only widens :attr:`MapVersion.stale`, and
+:meth:`SharedMaps.refresh` rasterises that box again before the rasters are read.
 A window of a whole-grid raster is the raster of the window (rows are filled from
 the crossings of every edge, polygons outside the window add an even number of
 crossings left of it or none), so a receiver composes its belief from these
@@ -67,8 +68,9 @@ class MapVersion:
     Attributes:
         name: ``(sender, base, applied)``, see the module docstring.
         map: the polygons.
-        free, occupied: ``H x W`` rasters of the observed and the obstacle layer;
-            valid outside :attr:`stale`.
+        slot: where its rasters are in :attr:`SharedMaps.rasters`: ``[slot, 0]``
+            the observed layer, ``[slot, 1]`` the obstacle layer; valid outside
+            :attr:`stale`.
         stale: box where the rasters lag behind :attr:`map` (``None``: up to date).
         steps: for the last packages that led here, by sequence number, the box of
             cells the package changed (``None``: none), which is how a receiver
@@ -79,8 +81,7 @@ class MapVersion:
 
     name: Name
     map: PolygonMap
-    free: npt.NDArray[np.bool_]
-    occupied: npt.NDArray[np.bool_]
+    slot: int
     stale: Box | None = None
     steps: dict[int, Box | None] = field(default_factory=dict)
     holders: int = 0
@@ -92,11 +93,24 @@ class SharedMaps:
     def __init__(self, shape: tuple[int, int]) -> None:
         self.shape = shape
         self.versions: dict[Name, MapVersion] = {}
+        self.rasters = np.zeros((0, 2, *shape), dtype=bool)
+        """Every version's rasters, by slot (one compiled pass reads them all)."""
+        self._free_slots: list[int] = []
+
+    def _slot(self) -> int:
+        """A free slot of :attr:`rasters` (contents undefined)."""
+        if not self._free_slots:
+            n = self.rasters.shape[0]
+            grown = np.zeros((max(2 * n, 8), 2, *self.shape), dtype=bool)
+            grown[:n] = self.rasters
+            self.rasters = grown
+            self._free_slots = list(range(grown.shape[0] - 1, n - 1, -1))
+        return self._free_slots.pop()
 
     def _new(self, name: Name, polygon_map: PolygonMap) -> MapVersion:
-        version = MapVersion(
-            name, polygon_map, np.zeros(self.shape, dtype=bool), np.zeros(self.shape, dtype=bool)
-        )
+        slot = self._slot()
+        self.rasters[slot] = False
+        version = MapVersion(name, polygon_map, slot)
         self.versions[name] = version
         return version
 
@@ -108,8 +122,10 @@ class SharedMaps:
 
     def release(self, version: MapVersion) -> None:
         version.holders -= 1
-        if version.holders == 0 and self.versions.get(version.name) is version:
-            del self.versions[version.name]
+        if version.holders == 0:
+            if self.versions.get(version.name) is version:
+                del self.versions[version.name]
+            self._free_slots.append(version.slot)
 
     def resync(
         self, version: MapVersion, seq: int, payload: Resync
@@ -160,11 +176,12 @@ class SharedMaps:
             target = version
         else:
             version.holders -= 1
+            slot = self._slot()
+            self.rasters[slot] = self.rasters[version.slot]
             target = MapVersion(
                 version.name,
                 version.map.copy(),
-                version.free.copy(),
-                version.occupied.copy(),
+                slot,
                 version.stale,
                 dict(version.steps),
                 holders=1,
@@ -183,8 +200,8 @@ class SharedMaps:
             target.steps = {seq: b for seq, b in target.steps.items() if seq > oldest}
         return target, box
 
-    def rasters(self, version: MapVersion) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
-        """``version``'s up-to-date ``(free, occupied)`` rasters (read only)."""
+    def refresh(self, version: MapVersion) -> None:
+        """Bring ``version``'s rasters up to date."""
         if version.stale is not None:
             height, width = self.shape
             box = version.stale
@@ -192,11 +209,8 @@ class SharedMaps:
             x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
             if x0 <= x1 and y0 <= y1:
                 polygons = version.map.polygons.values()
-                for layer, raster in (
-                    (OBSERVED_LAYER, version.free),
-                    (OBSTACLE_LAYER, version.occupied),
-                ):
-                    window = raster[y0 : y1 + 1, x0 : x1 + 1]
+                for layer in (OBSERVED_LAYER, OBSTACLE_LAYER):
+                    window = self.rasters[version.slot, layer, y0 : y1 + 1, x0 : x1 + 1]
                     window[:] = False
                     selected = [
                         p.xy
@@ -209,7 +223,6 @@ class SharedMaps:
                     ]
                     rasterise_into(selected, y0, x0, window)
             version.stale = None
-        return version.free, version.occupied
 
 
 def rasterise_into(

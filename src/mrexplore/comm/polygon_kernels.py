@@ -518,36 +518,49 @@ def rasterise(
 
 
 @numba.njit(cache=True, nogil=True)
-def paint_window(
-    free: npt.NDArray[np.bool_],
-    occupied: npt.NDArray[np.bool_],
+def paint_box(
+    rasters: npt.NDArray[np.bool_],
+    slots: IntArray,
     own: npt.NDArray[np.int8],
     belief: npt.NDArray[np.int8],
+    box: tuple[int, int, int, int],
     free_value: int,
     occupied_value: int,
     unknown_value: int,
 ) -> int:
-    """Write occupied over free over unknown into ``belief`` where ``own`` is unknown.
+    """Write the union of several senders' rasters into ``belief`` inside ``box``.
 
-    All four arrays are the same window. A cell becomes ``occupied_value`` where
-    ``occupied``, else ``free_value`` where ``free``, else ``unknown_value``; cells
-    whose ``own`` value is not ``unknown_value`` are left alone.
+    Args:
+        rasters: ``n x 2 x H x W``; ``rasters[s, 0]`` a sender's observed layer,
+            ``rasters[s, 1]`` its obstacle layer.
+        slots: the senders, as indices into ``rasters``.
+        own: ``H x W``, the cells the robot observed itself (``unknown_value``
+            elsewhere); those cells are left alone.
+        belief: ``H x W``, written in place.
+        box: ``(row_min, row_max, col_min, col_max)``, inclusive, inside the grid.
+
+    A cell becomes ``occupied_value`` where any obstacle layer holds it, else
+    ``free_value`` where any observed layer does, else ``unknown_value``.
 
     Returns:
         The number of cells of ``belief`` whose value changed.
     """
-    height, width = belief.shape
+    row0, row1, col0, col1 = box
     n_changed = 0
-    for r in range(height):
-        for c in range(width):
+    for r in range(row0, row1 + 1):
+        for c in range(col0, col1 + 1):
             if own[r, c] != unknown_value:
                 continue
-            if occupied[r, c]:
-                value = occupied_value
-            elif free[r, c]:
-                value = free_value
-            else:
-                value = unknown_value
+            value = unknown_value
+            for s in slots:
+                if rasters[s, 1, r, c]:
+                    value = occupied_value
+                    break
+            if value == unknown_value:
+                for s in slots:
+                    if rasters[s, 0, r, c]:
+                        value = free_value
+                        break
             if belief[r, c] != value:
                 belief[r, c] = value
                 n_changed += 1
