@@ -16,7 +16,7 @@ from mrexplore.comm.messages import Message
 from mrexplore.comm.polygon import PolygonSharing
 from mrexplore.comm.polygon_inbound import SharedMaps
 from mrexplore.comm.polygon_kernels import paint_box, rasterise, trace_contours
-from mrexplore.comm.polygon_packages import OBSERVED_LAYER, OBSTACLE_LAYER
+from mrexplore.comm.polygon_packages import OBSERVED_LAYER, OBSTACLE_LAYER, changed_edges_box
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN, new_belief
 from test_polygon_sharing import observations, office  # the same walk through the office
 
@@ -150,3 +150,39 @@ def _same(a: list[Message], b: list[Message]) -> bool:
     return [(m.type, m.size_bytes, m.payload.seq) for m in a] == [
         (m.type, m.size_bytes, m.payload.seq) for m in b
     ]
+
+
+@settings(max_examples=150, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n_others=st.integers(0, 3))
+def test_a_redefined_polygon_changes_the_raster_only_in_the_changed_edges_box(
+    seed: int, n_others: int
+) -> None:
+    """Replacing a polygon by one that keeps some of its vertices (as B packages
+    do) changes the layer's raster, other polygons included, only inside
+    changed_edges_box."""
+    rng = np.random.default_rng(seed)
+    shape = (14, 16)
+
+    def polygon(n: int) -> npt.NDArray[np.int32]:
+        return np.column_stack([rng.integers(0, shape[1], n), rng.integers(0, shape[0], n)]).astype(
+            np.int32
+        )
+
+    old = polygon(int(rng.integers(1, 9)))
+    # Keep a random subsequence of old's vertices (cyclically), insert new ones.
+    kept = old[np.sort(rng.choice(len(old), int(rng.integers(0, len(old) + 1)), replace=False))]
+    parts = [kept[i : i + 1] for i in range(len(kept))]
+    for _ in range(int(rng.integers(0, 3))):
+        parts.insert(int(rng.integers(0, len(parts) + 1)), polygon(1))
+    new = np.concatenate(parts) if parts else polygon(1)
+    new = np.roll(new, int(rng.integers(0, len(new))), axis=0)
+    others = [polygon(int(rng.integers(1, 6))) for _ in range(n_others)]
+    before = _raster([old, *others], shape)
+    after = _raster([new, *others], shape)
+    box = changed_edges_box(old, new)
+    rows, cols = np.nonzero(before != after)
+    if box is None:
+        assert rows.size == 0
+    else:
+        x0, y0, x1, y1 = box
+        assert ((cols >= x0) & (cols <= x1) & (rows >= y0) & (rows <= y1)).all()
