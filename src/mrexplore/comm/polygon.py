@@ -784,42 +784,48 @@ class PolygonSharing(MapSharing):
             inbound.last_seq = seq
         for sender, packages in pending.items():
             self._apply(state.inbound[sender], packages)
-        box: Box | None = None
-        for inbound in state.inbound.values():
-            box = union(box, inbound.dirty)
-            inbound.dirty = None
-        if box is None:
+        boxes = [inbound.dirty for inbound in state.inbound.values() if inbound.dirty is not None]
+        if not boxes:
             return 0
-        return self._paint(state, belief, box)
+        for inbound in state.inbound.values():
+            inbound.dirty = None
+        return self._paint(state, belief, boxes)
 
     def _apply(self, inbound: _Inbound, packages: list[tuple[int, Payload]]) -> None:
         if packages:
             inbound.version, changed = self._maps.advance(inbound.version, packages)
             inbound.dirty = union(inbound.dirty, changed)
 
-    def _paint(self, state: _RobotState, belief: BeliefGrid, box: Box) -> int:
-        """Compose the received rasters inside ``box`` into ``belief``."""
+    def _paint(self, state: _RobotState, belief: BeliefGrid, boxes: list[Box]) -> int:
+        """Compose the received rasters inside ``boxes`` into ``belief``.
+
+        Outside the boxes no sender's raster changed, and the belief already holds
+        the composition there (every change of it was painted when it happened),
+        so each box is painted on its own rather than the box holding them all,
+        which for senders spread over the map is most of the map. A cell in two
+        boxes is written at most once: the second pass finds it up to date.
+        """
         height, width = self.shape
-        x0, y0 = max(box[0], 0), max(box[1], 0)
-        x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
-        if x1 < x0 or y1 < y0:
-            return 0
         slots = np.empty(len(state.inbound), dtype=np.int64)
         for i, inbound in enumerate(state.inbound.values()):
             self._maps.refresh(inbound.version)
             slots[i] = inbound.version.slot
-        return int(
-            paint_box(
-                self._maps.rasters,
-                slots,
-                state.own,
-                belief,
-                (y0, y1, x0, x1),
-                FREE,
-                OCCUPIED,
-                UNKNOWN,
-            )
-        )
+        n_changed = 0
+        for box in boxes:
+            x0, y0 = max(box[0], 0), max(box[1], 0)
+            x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
+            if x0 <= x1 and y0 <= y1:
+                n_changed += paint_box(
+                    self._maps.rasters,
+                    slots,
+                    state.own,
+                    belief,
+                    (y0, y1, x0, x1),
+                    FREE,
+                    OCCUPIED,
+                    UNKNOWN,
+                )
+        return n_changed
 
     # ------------------------------------------------------------------ inspection
     def polygons(self, robot: int) -> list[PolygonRecord]:

@@ -546,21 +546,30 @@ def paint_box(
         The number of cells of ``belief`` whose value changed.
     """
     row0, row1, col0, col1 = box
+    n_cols = col1 - col0 + 1
+    free = np.empty(n_cols, dtype=np.bool_)
+    occupied = np.empty(n_cols, dtype=np.bool_)
     n_changed = 0
     for r in range(row0, row1 + 1):
-        for c in range(col0, col1 + 1):
+        # Row by row, each sender's row read in one sweep.
+        free[:] = False
+        occupied[:] = False
+        for s in slots:
+            free_row = rasters[s, 0, r]
+            occupied_row = rasters[s, 1, r]
+            for i in range(n_cols):
+                free[i] |= free_row[col0 + i]
+                occupied[i] |= occupied_row[col0 + i]
+        for i in range(n_cols):
+            c = col0 + i
             if own[r, c] != unknown_value:
                 continue
-            value = unknown_value
-            for s in slots:
-                if rasters[s, 1, r, c]:
-                    value = occupied_value
-                    break
-            if value == unknown_value:
-                for s in slots:
-                    if rasters[s, 0, r, c]:
-                        value = free_value
-                        break
+            if occupied[i]:
+                value = occupied_value
+            elif free[i]:
+                value = free_value
+            else:
+                value = unknown_value
             if belief[r, c] != value:
                 belief[r, c] = value
                 n_changed += 1
