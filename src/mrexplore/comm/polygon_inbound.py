@@ -208,20 +208,16 @@ class SharedMaps:
             x0, y0 = max(box[0], 0), max(box[1], 0)
             x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
             if x0 <= x1 and y0 <= y1:
-                polygons = version.map.polygons.values()
+                # The polygons that reach into the box, by layer (one pass).
+                selected: tuple[list[npt.NDArray[np.int32]], ...] = ([], [])
+                for polygon in version.map.polygons.values():
+                    b = polygon.bbox
+                    if b[0] <= x1 and b[2] >= x0 and b[1] <= y1 and b[3] >= y0:
+                        selected[polygon.layer].append(polygon.xy)
                 for layer in (OBSERVED_LAYER, OBSTACLE_LAYER):
                     window = self.rasters[version.slot, layer, y0 : y1 + 1, x0 : x1 + 1]
                     window[:] = False
-                    selected = [
-                        p.xy
-                        for p in polygons
-                        if p.layer == layer
-                        and p.bbox[0] <= x1
-                        and p.bbox[2] >= x0
-                        and p.bbox[1] <= y1
-                        and p.bbox[3] >= y0
-                    ]
-                    rasterise_into(selected, y0, x0, window)
+                    rasterise_into(selected[layer], y0, x0, window)
             version.stale = None
 
 
