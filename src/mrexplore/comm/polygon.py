@@ -106,10 +106,12 @@ Receivers
 A receiver rasterises the union of the polygons of all senders (per sender and
 layer by the even-odd rule, then occupied over free over unknown across
 senders) and writes the result into its belief only at cells it has not
-observed itself. Only the box of cells that the applied packages can have
-changed is rasterised again. Cells outside every received polygon are written
-``UNKNOWN``, so a coarse approximation that is later refined gives its cells
-back. :meth:`~PolygonSharing.on_receive_all` returns the number of belief cells
+observed itself. Only the boxes of cells that the applied packages can have
+changed are composed again, one box per sender; receivers that applied the
+same packages share one copy of a sender's polygons and its rasters
+(:mod:`mrexplore.comm.polygon_inbound`). Cells outside every received polygon
+are written ``UNKNOWN``, so a coarse approximation that is later refined gives
+its cells back. :meth:`~PolygonSharing.on_receive_all` returns the number of belief cells
 whose value changed.
 
 Parameters
