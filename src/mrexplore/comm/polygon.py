@@ -106,10 +106,12 @@ Receivers
 A receiver rasterises the union of the polygons of all senders (per sender and
 layer by the even-odd rule, then occupied over free over unknown across
 senders) and writes the result into its belief only at cells it has not
-observed itself. Only the box of cells that the applied packages can have
-changed is rasterised again. Cells outside every received polygon are written
-``UNKNOWN``, so a coarse approximation that is later refined gives its cells
-back. :meth:`~PolygonSharing.on_receive_all` returns the number of belief cells
+observed itself. Only the boxes of cells that the applied packages can have
+changed are composed again, one box per sender; receivers that applied the
+same packages share one copy of a sender's polygons and its rasters
+(:mod:`mrexplore.comm.polygon_inbound`). Cells outside every received polygon
+are written ``UNKNOWN``, so a coarse approximation that is later refined gives
+its cells back. :meth:`~PolygonSharing.on_receive_all` returns the number of belief cells
 whose value changed.
 
 Parameters
@@ -166,12 +168,13 @@ import numpy.typing as npt
 
 from mrexplore.comm.bytes import BROADCAST, HEADER_BYTES, SEQ_BYTES
 from mrexplore.comm.messages import Message
+from mrexplore.comm.polygon_inbound import Box, MapVersion, SharedMaps, rasterise_into, union
 from mrexplore.comm.polygon_kernels import (
     edge_deviation,
     edge_deviations,
     farthest_point,
     match_vertices,
-    rasterise,
+    paint_box,
     trace_contours,
 )
 from mrexplore.comm.polygon_packages import (
@@ -202,7 +205,6 @@ __all__ = ["EP", "ES", "TPT", "VP", "B", "PolygonSharing"]
 
 IntArray = npt.NDArray[np.int64]
 FloatArray = npt.NDArray[np.float64]
-Box = tuple[int, int, int, int]
 LAYERS = (OBSERVED_LAYER, OBSTACLE_LAYER)
 BUDGET_SLACK = 1e-9
 """Rounding slack of the split budget (ten times 0.1 splits make a split)."""
@@ -234,10 +236,16 @@ class _Tracked:
     deviation: FloatArray
     farthest: IntArray
     version: int = 0
+    _xy: tuple[IntArray, npt.NDArray[np.int32]] | None = None
 
     def xy(self, width: int) -> npt.NDArray[np.int32]:
+        # Kept while ``anchors`` is the same array (it is replaced, never written).
+        if self._xy is not None and self._xy[0] is self.anchors:
+            return self._xy[1]
         cells = self.contour[self.anchors]
-        return np.stack([cells % width, cells // width], axis=1).astype(np.int32)
+        xy = np.stack([cells % width, cells // width], axis=1).astype(np.int32)
+        self._xy = (self.anchors, xy)
+        return xy
 
     def record(self, polygon_id: int, width: int) -> PolygonRecord:
         cells = self.contour[self.anchors]
@@ -247,12 +255,19 @@ class _Tracked:
 
 @dataclass
 class _Inbound:
-    """What a receiver holds from one sender."""
+    """What a receiver holds from one sender: its copy of the map (shared with the
+    receivers that applied the same packages) and where it is in the sequence."""
 
-    map: PolygonMap = field(default_factory=PolygonMap)
+    version: MapVersion
     last_seq: int = 0
     in_sync: bool = True
     ignored_since_request: int = 0
+    dirty: Box | None = None
+    """Cells the packages applied since the last repaint changed."""
+
+    @property
+    def map(self) -> PolygonMap:
+        return self.version.map
 
 
 @dataclass
@@ -280,6 +295,9 @@ class _RobotState:
             for _ in LAYERS
         ]
         self.dirty = [False, False]
+        # Per layer, (row_min, row_max, col_min, col_max) holding every cell of the
+        # layer ever observed; the first observation replaces the empty extent.
+        self.extent = [(shape[0], -1, shape[1], -1) for _ in LAYERS]
         self.next_point_id = 0
         self.next_polygon_id = 0
         self.version = 0
@@ -292,6 +310,20 @@ class _RobotState:
         self.error_samples: list[float] = []
         self.inbound: dict[int, _Inbound] = {}
         self.resync_requested = False
+
+    def extend(self, layer: int, rows: IntArray, cols: IntArray) -> None:
+        """Widen ``layer``'s extent to hold the cells ``rows, cols`` (not empty)."""
+        row0, row1, col0, col1 = self.extent[layer]
+        self.extent[layer] = (
+            min(row0, int(rows.min())),
+            max(row1, int(rows.max())),
+            min(col0, int(cols.min())),
+            max(col1, int(cols.max())),
+        )
+
+    def observed_anything(self) -> bool:
+        row0, row1, col0, col1 = self.extent[OBSERVED_LAYER]
+        return bool((self.own[row0 : row1 + 1, col0 : col1 + 1] != UNKNOWN).any())
 
     def new_point_id(self) -> int:
         self.next_point_id += 1
@@ -372,6 +404,7 @@ class PolygonSharing(MapSharing):
         self.gaps_detected = 0
         self._head = np.full(shape[0] * shape[1], -1, dtype=np.int64)
         self._labels = np.empty((shape[0] + 2) * (shape[1] + 2), dtype=np.int32)
+        self._maps = SharedMaps(shape)
 
     def _state(self, robot: int) -> _RobotState:
         if not self._robots:
@@ -393,6 +426,10 @@ class PolygonSharing(MapSharing):
                 ((values[changed] == OCCUPIED) | (old[changed] == OCCUPIED)).any()
             )
             state.own[rows, cols] = values
+            state.extend(OBSERVED_LAYER, rows[changed], cols[changed])
+            occupied = changed & (values == OCCUPIED)
+            if occupied.any():
+                state.extend(OBSTACLE_LAYER, rows[occupied], cols[occupied])
         changes = _Changes()
         for layer in LAYERS:
             if state.dirty[layer]:
@@ -429,7 +466,7 @@ class PolygonSharing(MapSharing):
             if gained or state.resync_requested or self._resync_due(state, tick):
                 state.resync_requested = False
                 messages.append(self._resync(robot, state, tick))
-            if tick % ERROR_SAMPLE_EVERY == 0 and (state.own != UNKNOWN).any():
+            if tick % ERROR_SAMPLE_EVERY == 0 and state.observed_anything():
                 state.error_samples.append(self.approximation_error(robot))
         return messages
 
@@ -479,8 +516,11 @@ class PolygonSharing(MapSharing):
     def _update_layer(self, state: _RobotState, layer: int, changes: _Changes) -> None:
         """Re-trace one layer's contours and update its polygons (paper cases 1 and 3)."""
         width = self.shape[1]
-        mask = state.own != UNKNOWN if layer == OBSERVED_LAYER else state.own == OCCUPIED
-        points, offsets, _, hashes = trace_contours(mask, self._labels)
+        # Only the box holding every cell of the layer is traced (same contours).
+        row0, row1, col0, col1 = state.extent[layer]
+        own = state.own[row0 : row1 + 1, col0 : col1 + 1]
+        mask = own != UNKNOWN if layer == OBSERVED_LAYER else own == OCCUPIED
+        points, offsets, _, hashes = trace_contours(mask, self._labels, (row0, col0), width)
         lengths = np.diff(offsets)
         old_keys, old_pids, old_lengths = state.keys[layer]
         # Contours identical to a previous one keep their polygon as it is.
@@ -710,19 +750,24 @@ class PolygonSharing(MapSharing):
         if any(m.type == RESYNC_REQUEST for m in messages):
             state.resync_requested = True  # answered by a full resync at the next tick
         ours = [m for m in messages if m.type in MAP_PACKAGE_TYPES and m.sender != robot]
+        # Increments are applied in runs (one per sender and tick, as a rule), so
+        # that receivers of the same runs share the result (polygon_inbound).
+        pending: dict[int, list[tuple[int, Payload]]] = {}
         for message in sorted(ours, key=lambda m: (m.sender, m.payload.seq)):
             inbound = state.inbound.get(message.sender)
             if inbound is None:
-                inbound = state.inbound[message.sender] = _Inbound()
+                inbound = state.inbound[message.sender] = _Inbound(self._maps.empty(message.sender))
             payload = message.payload
             seq = int(payload.seq)
             if seq <= inbound.last_seq:
                 continue
             if isinstance(payload, Resync):
-                inbound.map.apply(payload)
+                self._apply(inbound, pending.pop(message.sender, []))
+                inbound.version, changed = self._maps.resync(inbound.version, seq, payload)
+                inbound.dirty = union(inbound.dirty, changed)
                 inbound.in_sync = True
             elif inbound.in_sync and seq == inbound.last_seq + 1:
-                inbound.map.apply(payload)
+                pending.setdefault(message.sender, []).append((seq, payload))
             else:
                 self.gaps_detected += int(inbound.in_sync)
                 if inbound.in_sync or inbound.ignored_since_request >= REQUEST_AGAIN_AFTER:
@@ -739,43 +784,49 @@ class PolygonSharing(MapSharing):
                 inbound.ignored_since_request += 1
                 inbound.in_sync = False
             inbound.last_seq = seq
-        box: Box | None = None
-        for inbound in state.inbound.values():
-            dirty = inbound.map.take_dirty()
-            if dirty is not None:
-                box = dirty if box is None else _union(box, dirty)
-        if box is None:
+        for sender, packages in pending.items():
+            self._apply(state.inbound[sender], packages)
+        boxes = [inbound.dirty for inbound in state.inbound.values() if inbound.dirty is not None]
+        if not boxes:
             return 0
-        return self._paint(state, belief, box)
+        for inbound in state.inbound.values():
+            inbound.dirty = None
+        return self._paint(state, belief, boxes)
 
-    def _paint(self, state: _RobotState, belief: BeliefGrid, box: Box) -> int:
-        """Rasterise the received polygons inside ``box`` into ``belief``."""
+    def _apply(self, inbound: _Inbound, packages: list[tuple[int, Payload]]) -> None:
+        if packages:
+            inbound.version, changed = self._maps.advance(inbound.version, packages)
+            inbound.dirty = union(inbound.dirty, changed)
+
+    def _paint(self, state: _RobotState, belief: BeliefGrid, boxes: list[Box]) -> int:
+        """Compose the received rasters inside ``boxes`` into ``belief``.
+
+        Outside the boxes no sender's raster changed, and the belief already holds
+        the composition there (every change of it was painted when it happened),
+        so each box is painted on its own rather than the box holding them all,
+        which for senders spread over the map is most of the map. A cell in two
+        boxes is written at most once: the second pass finds it up to date.
+        """
         height, width = self.shape
-        x0, y0 = max(box[0], 0), max(box[1], 0)
-        x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
-        if x1 < x0 or y1 < y0:
-            return 0
-        window = (y0, y1 + 1, x0, x1 + 1)
-        free = np.zeros((y1 - y0 + 1, x1 - x0 + 1), dtype=bool)
-        occupied = np.zeros_like(free)
-        for inbound in state.inbound.values():
-            for layer, out in ((OBSERVED_LAYER, free), (OBSTACLE_LAYER, occupied)):
-                selected = [
-                    p.xy
-                    for p in inbound.map.polygons.values()
-                    if p.layer == layer
-                    and p.bbox[0] <= x1
-                    and p.bbox[2] >= x0
-                    and p.bbox[1] <= y1
-                    and p.bbox[3] >= y0
-                ]
-                _rasterise_into(selected, window, out)
-        composite = _compose(free, occupied)
-        target = belief[y0 : y1 + 1, x0 : x1 + 1]
-        write = (state.own[y0 : y1 + 1, x0 : x1 + 1] == UNKNOWN) & (target != composite)
-        n_changed = int(np.count_nonzero(write))
-        if n_changed:
-            target[write] = composite[write]
+        slots = np.empty(len(state.inbound), dtype=np.int64)
+        for i, inbound in enumerate(state.inbound.values()):
+            self._maps.refresh(inbound.version)
+            slots[i] = inbound.version.slot
+        n_changed = 0
+        for box in boxes:
+            x0, y0 = max(box[0], 0), max(box[1], 0)
+            x1, y1 = min(box[2], width - 1), min(box[3], height - 1)
+            if x0 <= x1 and y0 <= y1:
+                n_changed += paint_box(
+                    self._maps.rasters,
+                    slots,
+                    state.own,
+                    belief,
+                    (y0, y1, x0, x1),
+                    FREE,
+                    OCCUPIED,
+                    UNKNOWN,
+                )
         return n_changed
 
     # ------------------------------------------------------------------ inspection
@@ -806,14 +857,18 @@ class PolygonSharing(MapSharing):
 
     def polygon_map(self, robot: int) -> BeliefGrid:
         """``robot``'s own polygons rasterised over the whole grid (occupied > free > unknown)."""
-        state = self._state(robot)
         height, width = self.shape
-        free = np.zeros((height, width), dtype=bool)
+        return self._polygon_window(self._state(robot), (0, height - 1, 0, width - 1))
+
+    def _polygon_window(self, state: _RobotState, window: tuple[int, int, int, int]) -> BeliefGrid:
+        """The window ``(row_min, row_max, col_min, col_max)`` of the robot's polygon map."""
+        row0, row1, col0, col1 = window
+        free = np.zeros((row1 - row0 + 1, col1 - col0 + 1), dtype=bool)
         occupied = np.zeros_like(free)
-        window = (0, height, 0, width)
+        width = self.shape[1]
         for layer, out in ((OBSERVED_LAYER, free), (OBSTACLE_LAYER, occupied)):
             selected = [t.xy(width) for t in state.tracked.values() if t.layer == layer]
-            _rasterise_into(selected, window, out)
+            rasterise_into(selected, row0, col0, out)
         return _compose(free, occupied)
 
     def approximation_error(self, robot: int) -> float:
@@ -825,11 +880,16 @@ class PolygonSharing(MapSharing):
         measured against the robot's own map.
         """
         state = self._state(robot)
-        observed = state.own != UNKNOWN
+        # Every observed cell lies in the observed layer's extent.
+        row0, row1, col0, col1 = state.extent[OBSERVED_LAYER]
+        if row1 < row0:
+            return 0.0
+        own = state.own[row0 : row1 + 1, col0 : col1 + 1]
+        observed = own != UNKNOWN
         n_observed = int(np.count_nonzero(observed))
         if n_observed == 0:
             return 0.0
-        wrong = observed & (self.polygon_map(robot) != state.own)
+        wrong = observed & (self._polygon_window(state, (row0, row1, col0, col1)) != own)
         return int(np.count_nonzero(wrong)) / n_observed
 
     def approximation_errors(self) -> list[float]:
@@ -897,23 +957,6 @@ def _runs(ids: IntArray, sources: IntArray, positions: IntArray, lengths: IntArr
     starts = np.flatnonzero(~follows)
     ends = np.append(starts[1:], starts[0] + m) - 1
     return np.column_stack([ids[starts], ids[ends % m]]).astype(np.int64)
-
-
-def _union(a: Box, b: Box) -> Box:
-    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
-
-
-def _rasterise_into(
-    polygons: list[npt.NDArray[np.int32]],
-    window: tuple[int, int, int, int],
-    out: npt.NDArray[np.bool_],
-) -> None:
-    """Even-odd fill plus edges of ``polygons`` (one sender's layer), ORed into ``out``."""
-    if not polygons:
-        return
-    offsets = np.zeros(len(polygons) + 1, dtype=np.int64)
-    offsets[1:] = np.cumsum(np.fromiter((len(p) for p in polygons), np.int64, len(polygons)))
-    rasterise(np.concatenate(polygons), offsets, window[0], window[2], out)
 
 
 def _compose(free: npt.NDArray[np.bool_], occupied: npt.NDArray[np.bool_]) -> BeliefGrid:

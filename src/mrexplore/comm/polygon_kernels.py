@@ -43,15 +43,21 @@ def trace_contours_kernel(
     offsets: IntArray,
     holes: npt.NDArray[np.bool_],
     hashes: npt.NDArray[np.uint64],
+    row0: int,
+    col0: int,
+    grid_width: int,
 ) -> int:
     """All borders of the 8-connected components of ``mask`` (Suzuki & Abe, 1985).
 
     Args:
-        mask: ``H x W`` boolean grid, ``True`` = foreground.
+        mask: ``H x W`` boolean grid, ``True`` = foreground; the window of a larger
+            grid ``grid_width`` cells wide whose cell ``[0, 0]`` is grid cell
+            ``(row0, col0)``.
         labels: scratch of ``(H + 2) * (W + 2)`` int32, any content.
         points, offsets, holes, hashes: output buffers (see :func:`trace_contours`);
             ``offsets``, ``holes`` and ``hashes`` must hold one entry per
             foreground cell (plus one for ``offsets``), ``points`` any size.
+            Points are flat indices of the larger grid.
 
     Returns:
         The number of contours, or ``-1`` when ``points`` was too small.
@@ -129,7 +135,8 @@ def trace_contours_kernel(
             offsets[n_contours] = n_points
     for g in range(n_points):
         padded = points[g]
-        points[g] = (padded // padded_width - 1) * width + padded % padded_width - 1
+        row = padded // padded_width - 1 + row0
+        points[g] = row * grid_width + padded % padded_width - 1 + col0
     for k in range(n_contours):
         h = _HASH_SEED ^ np.uint64(1 if holes[k] else 0)
         for g in range(offsets[k], offsets[k + 1]):
@@ -140,7 +147,10 @@ def trace_contours_kernel(
 
 
 def trace_contours(
-    mask: npt.NDArray[np.bool_], scratch: npt.NDArray[np.int32] | None = None
+    mask: npt.NDArray[np.bool_],
+    scratch: npt.NDArray[np.int32] | None = None,
+    origin: tuple[int, int] = (0, 0),
+    grid_width: int | None = None,
 ) -> tuple[IntArray, IntArray, npt.NDArray[np.bool_], npt.NDArray[np.uint64]]:
     """All borders of the 8-connected components of ``mask`` (Suzuki & Abe, 1985).
 
@@ -148,6 +158,11 @@ def trace_contours(
         mask: ``H x W`` boolean grid, ``True`` = foreground.
         scratch: optional int32 buffer of at least ``(H + 2) * (W + 2)`` entries,
             reused between calls to spare an allocation.
+        origin, grid_width: ``mask`` is the window of a grid ``grid_width`` cells
+            wide (default: ``W``) whose cell ``[0, 0]`` is grid cell ``origin``
+            (row, col); points are flat indices of that grid. A window that holds
+            every foreground cell of the grid gives the grid's contours, in the
+            same order (the scan meets the foreground cells in the same order).
 
     Returns:
         ``(points, offsets, is_hole, hashes)``: contour ``k`` is
@@ -175,7 +190,17 @@ def trace_contours(
     while True:
         points = np.empty(capacity, dtype=np.int64)
         n_contours = int(
-            trace_contours_kernel(mask, scratch[:n_padded], points, offsets, holes, hashes)
+            trace_contours_kernel(
+                mask,
+                scratch[:n_padded],
+                points,
+                offsets,
+                holes,
+                hashes,
+                origin[0],
+                origin[1],
+                mask.shape[1] if grid_width is None else grid_width,
+            )
         )
         if n_contours >= 0:
             break
@@ -490,3 +515,62 @@ def rasterise(
                 c_last = width - 1
             for c in range(c_first, c_last + 1):
                 out[r, c] = True
+
+
+@numba.njit(cache=True, nogil=True)
+def paint_box(
+    rasters: npt.NDArray[np.bool_],
+    slots: IntArray,
+    own: npt.NDArray[np.int8],
+    belief: npt.NDArray[np.int8],
+    box: tuple[int, int, int, int],
+    free_value: int,
+    occupied_value: int,
+    unknown_value: int,
+) -> int:
+    """Write the union of several senders' rasters into ``belief`` inside ``box``.
+
+    Args:
+        rasters: ``n x 2 x H x W``; ``rasters[s, 0]`` a sender's observed layer,
+            ``rasters[s, 1]`` its obstacle layer.
+        slots: the senders, as indices into ``rasters``.
+        own: ``H x W``, the cells the robot observed itself (``unknown_value``
+            elsewhere); those cells are left alone.
+        belief: ``H x W``, written in place.
+        box: ``(row_min, row_max, col_min, col_max)``, inclusive, inside the grid.
+
+    A cell becomes ``occupied_value`` where any obstacle layer holds it, else
+    ``free_value`` where any observed layer does, else ``unknown_value``.
+
+    Returns:
+        The number of cells of ``belief`` whose value changed.
+    """
+    row0, row1, col0, col1 = box
+    n_cols = col1 - col0 + 1
+    free = np.empty(n_cols, dtype=np.bool_)
+    occupied = np.empty(n_cols, dtype=np.bool_)
+    n_changed = 0
+    for r in range(row0, row1 + 1):
+        # Row by row, each sender's row read in one sweep.
+        free[:] = False
+        occupied[:] = False
+        for s in slots:
+            free_row = rasters[s, 0, r]
+            occupied_row = rasters[s, 1, r]
+            for i in range(n_cols):
+                free[i] |= free_row[col0 + i]
+                occupied[i] |= occupied_row[col0 + i]
+        for i in range(n_cols):
+            c = col0 + i
+            if own[r, c] != unknown_value:
+                continue
+            if occupied[i]:
+                value = occupied_value
+            elif free[i]:
+                value = free_value
+            else:
+                value = unknown_value
+            if belief[r, c] != value:
+                belief[r, c] = value
+                n_changed += 1
+    return n_changed

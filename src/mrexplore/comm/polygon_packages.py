@@ -308,18 +308,70 @@ def _union(
     return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
+def _edge_keys(xy: npt.NDArray[np.int32]) -> IntArray:
+    """One int64 per directed edge ``xy[i] -> xy[i + 1]`` (cyclic; a single vertex is
+    the edge from it to itself), 16 bits per coordinate."""
+    xy = xy.astype(np.int64)
+    following = np.roll(xy, -1, axis=0)
+    return xy[:, 0] | (xy[:, 1] << 16) | (following[:, 0] << 32) | (following[:, 1] << 48)
+
+
+def changed_edges_box(
+    old: npt.NDArray[np.int32], new: npt.NDArray[np.int32]
+) -> tuple[int, int, int, int] | None:
+    """Box of the cells whose raster can differ when polygon ``old`` becomes ``new``.
+
+    ``rasterise`` draws every directed edge (vertex ``i`` to vertex ``i + 1``) and
+    fills each row from the crossings of all edges. Edges in both polygons (as a
+    multiset of directed edges) draw and cross the same; the others, removed or
+    added, change the drawn cells along themselves and the crossings of the rows
+    they cross, between their ends. Both polygons are closed, so each row gains
+    and loses an even number of crossings in all, and the parity of the crossings
+    left of a cell changes only between the changed crossings. Hence a box
+    holding every changed edge (``None``: no edge changed) holds every change.
+    Coordinates must lie in ``[0, 2**15)``; otherwise both polygons' boxes.
+    """
+    if min(int(old.min()), int(new.min())) < 0 or max(int(old.max()), int(new.max())) >= 2**15:
+        return _union(_bbox_of(old), _bbox_of(new))
+    keys_old, counts_old = np.unique(_edge_keys(old), return_counts=True)
+    keys_new, counts_new = np.unique(_edge_keys(new), return_counts=True)
+    keys = np.union1d(keys_old, keys_new)
+    count_old = np.zeros(keys.size, dtype=np.int64)
+    count_new = np.zeros(keys.size, dtype=np.int64)
+    count_old[np.searchsorted(keys, keys_old)] = counts_old
+    count_new[np.searchsorted(keys, keys_new)] = counts_new
+    changed = keys[count_old != count_new]
+    if changed.size == 0:
+        return None
+    mask = (1 << 16) - 1
+    xs = np.concatenate([changed & mask, (changed >> 32) & mask])
+    ys = np.concatenate([(changed >> 16) & mask, (changed >> 48) & mask])
+    return int(xs.min()), int(ys.min()), int(xs.max()), int(ys.max())
+
+
 class PolygonMap:
     """One sender's polygon map as rebuilt from its packages.
 
     Applying a package also records, in :attr:`dirty`, a box of cells
     ``(x_min, y_min, x_max, y_max)`` outside of which the rasterised map did not
     change (``None`` = nothing changed since :meth:`take_dirty`).
+
+    A changed polygon is replaced by a new :class:`Polygon`, never modified, so
+    :meth:`copy` can share the polygons with the copy.
     """
 
     def __init__(self) -> None:
         self.polygons: dict[int, Polygon] = {}
         self.owner: dict[int, int] = {}
         self.dirty: tuple[int, int, int, int] | None = None
+
+    def copy(self) -> PolygonMap:
+        """A map with the same polygons that packages can be applied to separately."""
+        copy = PolygonMap()
+        copy.polygons = dict(self.polygons)
+        copy.owner = dict(self.owner)
+        copy.dirty = self.dirty
+        return copy
 
     def take_dirty(self) -> tuple[int, int, int, int] | None:
         """The dirty box, which is reset."""
@@ -347,17 +399,22 @@ class PolygonMap:
         if polygon.ids.size == 1:
             del self.polygons[polygon_id]
             return
-        polygon.ids = np.concatenate((polygon.ids[:position], polygon.ids[position + 1 :]))
-        polygon.xy = np.concatenate((polygon.xy[:position], polygon.xy[position + 1 :]))
+        self.polygons[polygon_id] = Polygon(
+            polygon.layer,
+            np.concatenate((polygon.ids[:position], polygon.ids[position + 1 :])),
+            np.concatenate((polygon.xy[:position], polygon.xy[position + 1 :])),
+            polygon.bbox,
+        )
 
     def _define(self, record: PolygonRecord) -> None:
         old = self.polygons.pop(record.polygon_id, None)
         if old is not None:
-            self._mark(old.bbox)
             for point_id in old.ids.tolist():
                 self.owner.pop(point_id, None)
         points = record.points
         if points.shape[0] == 0:
+            if old is not None:
+                self._mark(old.bbox)
             return
         ids = points[:, 2].astype(np.int64)
         for point_id in ids.tolist():
@@ -367,7 +424,15 @@ class PolygonMap:
         self.polygons[record.polygon_id] = polygon
         for point_id in ids.tolist():
             self.owner[point_id] = record.polygon_id
-        self._mark(polygon.bbox)
+        if old is None:
+            self._mark(polygon.bbox)
+        elif old.layer != polygon.layer:
+            self._mark(old.bbox)
+            self._mark(polygon.bbox)
+        else:
+            changed = changed_edges_box(old.xy, polygon.xy)
+            if changed is not None:
+                self._mark(changed)
 
     def apply(self, payload: Payload) -> None:
         """Apply one package (the caller checks sequence numbers)."""
@@ -427,15 +492,16 @@ class PolygonMap:
         polygon = self.polygons[polygon_id]
         position = int(np.flatnonzero(polygon.ids == after)[0]) + 1
         x, y, point_id = int(point[0]), int(point[1]), int(point[2])
-        ids, xy = polygon.ids, polygon.xy
-        polygon.ids = np.concatenate((ids[:position], np.array([point_id]), ids[position:]))
-        polygon.xy = np.concatenate(
-            (xy[:position], np.array([[x, y]], dtype=np.int32), xy[position:])
+        ids, xy, b = polygon.ids, polygon.xy, polygon.bbox
+        polygon = Polygon(
+            polygon.layer,
+            np.concatenate((ids[:position], np.array([point_id]), ids[position:])),
+            np.concatenate((xy[:position], np.array([[x, y]], dtype=np.int32), xy[position:])),
+            (min(b[0], x), min(b[1], y), max(b[2], x), max(b[3], y)),
         )
+        self.polygons[polygon_id] = polygon
         self.owner[point_id] = polygon_id
         self._mark(self._neighbourhood(polygon, position))
-        b = polygon.bbox
-        polygon.bbox = (min(b[0], x), min(b[1], y), max(b[2], x), max(b[3], y))
 
     def records(self) -> list[tuple[int, int, IntArray]]:
         """``(polygon id, layer, ids)`` of every polygon, sorted by id (for comparisons)."""

@@ -63,6 +63,7 @@ from mrexplore.strategies.base import (
     Param,
     ReplanRules,
     RobotView,
+    reachable_frontier_cells,
 )
 from mrexplore.strategies.utility import UtilityDiscounting, discount
 
@@ -110,7 +111,7 @@ class MeierPolygon(UtilityDiscounting, FrontierStrategy):
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
     ) -> Cell | None:
-        rows, cols = np.nonzero(frontier & np.isfinite(dist) & (dist > 0))
+        rows, cols = reachable_frontier_cells(frontier, dist)
         if rows.size == 0:
             return None
         cost = dist[rows, cols]  # V_t
