@@ -1,6 +1,6 @@
 """Every strategy on one scenario, as ratios to nearest-frontier measured in the same run.
 
-    python benchmarks/bench_strategies.py [--quick] [--limited] [--scaling]
+    python benchmarks/bench_strategies.py [--quick] [--limited] [--scaling] [--no-intel]
                                           [--only kme burgard] [--timeout SECONDS]
 
 The scenario of issue 20: the Intel lab at its native 0.05 m cells, 8 robots, sensor
@@ -131,24 +131,26 @@ def table(
         f"`mrexplore run {' '.join(base)} --strategy ID`; one full compiled field on "
         f"this map: {1000 * t_field:.2f} ms",
         "",
-        "| strategy | wall s | ticks | ms per plan | x nearest-frontier "
+        "| strategy | wall s | ticks | ms per tick | ms per plan | x nearest-frontier "
         "| fields per plan | floor s | decide s | x floor |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for strategy, row in sorted(rows.items(), key=lambda item: item[1].get("wall") or 1e99):
         wall = row.get("wall")
         if wall is None:
-            lines.append(f"| {strategy} | > {timeout:g} (stopped) | - | - | - | - | - | - | - |")
+            lines.append(f"| {strategy} | > {timeout:g} (stopped) |{' - |' * 8}")
             continue
         ratio = f"{wall / floor:.1f}" if floor else "-"
+        per_tick = 1000 * row["wall_time_s"] / max(int(row["ticks"]), 1)
         plans = max(int(row["plans"]), 1)
         fields = int(row.get("distance_fields", 0))
         decide = row["decide_ms_per_plan"] * plans / 1000
         floor_s = fields * t_field
         floor_ratio = f"{decide / floor_s:.2f}" if floor_s > 0 else "-"
         lines.append(
-            f"| {strategy} | {wall:.1f} | {row['ticks']} | {row['decide_ms_per_plan']:.2f} "
-            f"| {ratio} | {fields / plans:.2f} | {floor_s:.1f} | {decide:.1f} | {floor_ratio} |"
+            f"| {strategy} | {wall:.1f} | {row['ticks']} | {per_tick:.2f} "
+            f"| {row['decide_ms_per_plan']:.2f} | {ratio} | {fields / plans:.2f} | {floor_s:.1f} "
+            f"| {decide:.1f} | {floor_ratio} |"
         )
     return [*lines, ""]
 
@@ -196,6 +198,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--limited", action="store_true")
     parser.add_argument("--scaling", action="store_true")
+    parser.add_argument("--no-intel", action="store_true", help="skip the unlimited Intel table")
     parser.add_argument("--only", nargs="+", default=None)
     parser.add_argument("--timeout", type=float, default=600.0)
     args = parser.parse_args(argv)
@@ -207,11 +210,15 @@ def main(argv: list[str] | None = None) -> int:
         ["--cell-size", "0.2", "--sensor-range", "10"] if args.quick else ["--sensor-range", "40"]
     )
 
-    lines = table("Intel, 8 robots, unlimited communication", intel, strategies, args.timeout)
+    def emit(lines: list[str]) -> None:  # each table as soon as it is measured
+        print("\n".join(lines), flush=True)
+
+    if not args.no_intel:
+        emit(table("Intel, 8 robots, unlimited communication", intel, strategies, args.timeout))
     if args.limited:
         limited = [*intel, "--comm-range", "10m"]
         title = "Intel, 8 robots, 10 m range (sheng-sync where the strategy shares in full)"
-        lines += table(title, limited, strategies, args.timeout, limited=True)
+        emit(table(title, limited, strategies, args.timeout, limited=True))
     if args.scaling:
         # Cost per tick as the team and the map grow: the first SCALING_TICKS ticks of
         # each run (a whole exploration of a 2000 x 2000 office by 8 robots takes hours).
@@ -220,13 +227,12 @@ def main(argv: list[str] | None = None) -> int:
         for robots in (4, 16, 64):
             base = ["--map", "office", "--size", f"{side}x{side}", "--robots", str(robots)]
             title = f"office {side}, {robots} robots, first {SCALING_TICKS} ticks"
-            lines += table(title, [*base, *ticks], strategies, args.timeout, per_tick=True)
+            emit(table(title, [*base, *ticks], strategies, args.timeout, per_tick=True))
         for full_side in (250, 500, 1000, 2000):
             side = full_side // 4 if args.quick else full_side
             base = ["--map", "office", "--size", f"{side}x{side}", "--robots", "8"]
             title = f"office {side}, 8 robots, first {SCALING_TICKS} ticks"
-            lines += table(title, [*base, *ticks], strategies, args.timeout, per_tick=True)
-    print("\n".join(lines))
+            emit(table(title, [*base, *ticks], strategies, args.timeout, per_tick=True))
     return 0
 
 
