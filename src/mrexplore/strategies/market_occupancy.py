@@ -283,18 +283,17 @@ from mrexplore.comm.messages import Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
-    distance_field,
     filter_by_gain,
     frontier_clusters,
     frontier_mask,
     information_gain,
-    path_to,
 )
 from mrexplore.planning.rrt_frontiers import (
     CLUSTERINGS,
     RrtFrontierDetector,
     samples_per_tick,
 )
+from mrexplore.planning.team_fields import team_costs, workspace_path
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -358,6 +357,30 @@ class WeightsPayload:
     key: RoundKey
     robot: int
     row: npt.NDArray[np.float32]
+
+
+@dataclass(frozen=True, slots=True)
+class FrontierReach:
+    """The path lengths (cells) from ``position`` to the frontier ``cells`` (sorted flat
+    indices) of a robot's map at ``tick``: the field of a frontier detection, kept so
+    that the row the robot computes over the points it just detected reads it instead
+    of searching again (same map, same source: the same values)."""
+
+    tick: int
+    position: Cell
+    cells: IntArray
+    reach: FloatArray
+
+    def holds(self, view: RobotView, flat: IntArray) -> bool:
+        """Whether this is ``view``'s tick and position and every cell of ``flat`` is here."""
+        if self.tick != view.tick or self.position != view.position or not self.cells.size:
+            return False
+        where = np.minimum(np.searchsorted(self.cells, flat), self.cells.size - 1)
+        return bool(np.array_equal(self.cells[where], flat))
+
+    def lookup(self, flat: IntArray) -> FloatArray:
+        """The path lengths to ``flat`` (cells :meth:`holds`)."""
+        return self.reach[np.searchsorted(self.cells, flat)]
 
 
 # ---------------------------------------------------------------- eqs. 3-6
@@ -669,6 +692,7 @@ class MarketOccupancy(FrontierStrategy):
         self.detector: RrtFrontierDetector | None = None
         self.rounds_decided = 0
         self.grid_fallbacks = 0  # requests where the RRT found no point and the grid did
+        self.frontier_reach: FrontierReach | None = None  # the last detection's field
 
     # ------------------------------------------------------------ helpers
     def _round_timeout(self, view: RobotView) -> int:
@@ -699,8 +723,11 @@ class MarketOccupancy(FrontierStrategy):
     def _detected(self, view: RobotView) -> IntArray:
         """The detector's reachable frontier points."""
         frontier = frontier_mask(view.belief)
-        reach = distance_field(passable(view.belief), view.position, targets=frontier)
-        reachable = frontier & np.isfinite(reach)
+        cells = np.flatnonzero(frontier)  # sorted
+        reach = team_costs(passable(view.belief), [view.position], cells)[0]
+        self.frontier_reach = FrontierReach(view.tick, view.position, cells, reach)
+        reachable = np.zeros(frontier.shape, dtype=np.bool_)
+        reachable.reshape(-1)[cells[np.isfinite(reach)]] = True
         if self.detector is not None:
             points = self.detector.points(view.belief)
             for _ in range(self.rrt_burst):
@@ -723,10 +750,13 @@ class MarketOccupancy(FrontierStrategy):
         others = [q for robot, q in sorted(self.assigned.items()) if robot != self.robot_id]
         reach = np.zeros(points.shape[0])
         if points.shape[0]:
-            targets = np.zeros(view.belief.shape, dtype=bool)
-            targets[points[:, 0], points[:, 1]] = True
-            dist = distance_field(passable(view.belief), view.position, targets=targets)
-            reach = dist[points[:, 0], points[:, 1]]
+            flat = points[:, 0].astype(np.int64) * view.belief.shape[1] + points[:, 1]
+            known = self.frontier_reach
+            if known is not None and known.holds(view, flat):
+                reach = known.lookup(flat)  # this tick's field from here: the same values
+            else:
+                cells, inverse = np.unique(flat, return_inverse=True)
+                reach = team_costs(passable(view.belief), [view.position], cells)[0][inverse]
         c = np.where(np.isfinite(reach), reach, 0.0) if self.cost == "path" else None
         w = weight(
             cost(view.position, points) if c is None else c,
@@ -863,7 +893,7 @@ class MarketOccupancy(FrontierStrategy):
         """Head for an assigned point, planning over this robot's known-free cells."""
         if goal in (view.goal, view.position):
             return Decision()
-        path = path_to(passable(view.belief), view.position, goal)
+        path = workspace_path(passable(view.belief), view.position, goal)
         if path is None:
             return Decision()
         self.last_plan_tick = view.tick
