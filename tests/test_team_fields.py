@@ -26,10 +26,15 @@ Cell = tuple[int, int]
 
 @st.composite
 def beliefs(draw: st.DrawFn) -> npt.NDArray[np.int8]:
-    height = draw(st.integers(1, 25))
-    width = draw(st.integers(1, 25))
+    """Small random maps, and tall mostly free ones (where a search that stops early
+    touches only some of the rows: the buffers are reset by rows)."""
     rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
-    weights = rng.dirichlet(np.ones(3) * 0.7)
+    if draw(st.booleans()):
+        height, width = draw(st.integers(1, 25)), draw(st.integers(1, 25))
+        weights = rng.dirichlet(np.ones(3) * 0.7)
+    else:
+        height, width = draw(st.integers(30, 120)), draw(st.integers(1, 8))
+        weights = np.array([0.05, 0.85, 0.1])
     return rng.choice(np.array([U, F, W], dtype=np.int8), size=(height, width), p=weights)
 
 
@@ -43,7 +48,7 @@ def _workspace_is_clean(n_cells: int) -> bool:
 
 
 @settings(max_examples=300, deadline=None)
-@given(beliefs(), st.lists(st.integers(0, 10_000), min_size=0, max_size=6), st.booleans())
+@given(beliefs(), st.lists(st.integers(0, 100_000), min_size=0, max_size=6), st.booleans())
 def test_team_costs_equal_one_distance_field_per_source(
     belief: npt.NDArray[np.int8], picks: list[int], frontier_targets: bool
 ) -> None:
@@ -68,7 +73,7 @@ def test_team_costs_equal_one_distance_field_per_source(
 
 
 @settings(max_examples=300, deadline=None)
-@given(beliefs(), st.integers(0, 10_000), st.integers(0, 10_000))
+@given(beliefs(), st.integers(0, 100_000), st.integers(0, 100_000))
 def test_workspace_path_equals_path_to(
     belief: npt.NDArray[np.int8], pick_start: int, pick_goal: int
 ) -> None:

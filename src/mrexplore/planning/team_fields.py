@@ -73,10 +73,32 @@ def workspace(n_cells: int) -> FieldWorkspace:
 
 
 @numba.njit(cache=True, nogil=True)
-def _reset(dist: FloatArray, state: npt.NDArray[np.uint8]) -> None:
-    for i in range(dist.shape[0]):
-        dist[i] = np.inf
-        state[i] = 0
+def _reset(
+    dist: FloatArray,
+    state: npt.NDArray[np.uint8],
+    height: int,
+    width: int,
+    row: int,
+    farthest: float,
+) -> None:
+    """Back to ``inf`` / zero after a search from a cell of ``row`` that stopped once it
+    had settled its targets, the farthest at ``farthest`` cells (``inf``: the search may
+    have run through its whole component, reset everything).
+
+    A search stopping at ``D`` finishes the band ``[floor(D), floor(D) + 1)`` and queues
+    cells at most one diagonal step beyond, so every cell it touched lies within
+    ``D + 1 + sqrt(2)`` steps, hence within as many rows, of the source: only those rows
+    are written (a near goal then costs a few rows, not the whole grid).
+    """
+    if farthest < np.inf:
+        reach = math.ceil(farthest) + 3
+        first = max(row - reach, 0) * width
+        last = min(row + reach + 1, height) * width
+    else:
+        first = 0
+        last = height * width
+    dist[first:last] = np.inf
+    state[first:last] = 0
 
 
 @numba.njit(cache=True, nogil=True)
@@ -131,11 +153,13 @@ def team_costs_kernel(
             passable, height, width, src, target_mask, need, np.inf, dist, state, buckets
         )
         reached = 0
+        farthest = 0.0
         for j in range(n_targets):
             value = dist[target_index[j]]
             out[i, j] = value
             if value < np.inf:
                 reached += 1
+                farthest = max(farthest, value)
         if toggled:
             passable[src] = False
         else:
@@ -145,7 +169,8 @@ def team_costs_kernel(
                 other = sources[k]
                 if known[k] < 0 and passable[other] and dist[other] < np.inf:
                     known[k] = reached
-        _reset(dist, state)
+        # reached == need: the search stopped at its farthest target (see _reset).
+        _reset(dist, state, height, width, src // width, farthest if reached >= need else np.inf)
     return n_sources
 
 
@@ -218,6 +243,7 @@ def workspace_path(
         flat[src] = True
     space = workspace(height * width)
     space.targets[target] = True
+    reached = math.inf
     try:
         count_field()
         distance_field_kernel(
@@ -233,9 +259,12 @@ def workspace_path(
             space.buckets,
         )
         dist = space.dist.reshape(height, width)
-        if not np.isfinite(dist[goal]):
+        reached = float(dist[goal])
+        if not np.isfinite(reached):
             return None
         return extract_path(dist, goal)
     finally:
         space.targets[target] = False
-        _reset(space.dist, space.state)
+        # Stopped at the goal, or at once with no target; otherwise a whole component.
+        farthest = reached if reached < math.inf else (0.0 if n_targets == 0 else math.inf)
+        _reset(space.dist, space.state, height, width, int(start[0]), farthest)
