@@ -11,13 +11,17 @@ import numpy.typing as npt
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mrexplore.comm.bytes import float32_on_wire
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import distance_field, frontier_mask, path_to
 from mrexplore.planning.distance import FieldCounter
-from mrexplore.planning.team_fields import team_costs, workspace, workspace_path
+from mrexplore.planning.team_fields import reachable, team_costs, workspace, workspace_path
 from mrexplore.planning.visibility import in_sight_kernel
 from mrexplore.sensing import visible_cells_flat
+from mrexplore.strategies import market_occupancy as market
+from mrexplore.strategies.base import RobotView
 from mrexplore.strategies.burgard import assign_greedy
+from mrexplore.strategies.market_occupancy import MarketOccupancy
 from mrexplore.strategies.utility import coverage_probability, discount
 
 U, F, W = UNKNOWN, FREE, OCCUPIED
@@ -228,3 +232,87 @@ def test_discount_equals_the_whole_disk_formulation(
     got = np.ones(belief.size)
     discount(got, rows, cols, goal, max_range, occupied)
     np.testing.assert_array_equal(got, want)
+
+
+@settings(max_examples=300, deadline=None)
+@given(beliefs(), st.integers(0, 100_000), st.booleans())
+def test_reachable_equals_a_finite_distance(
+    belief: npt.NDArray[np.int8], pick: int, frontier_targets: bool
+) -> None:
+    passable = belief == FREE
+    source = _cells(belief, [pick])[0]  # passable or not
+    if frontier_targets:
+        targets = frontier_mask(belief)
+    else:
+        targets = np.random.default_rng(pick).random(belief.shape) < 0.3
+    index = np.flatnonzero(targets)
+    rows, cols = np.divmod(index, belief.shape[1])
+    want = np.isfinite(distance_field(passable, source, targets=targets)[rows, cols])
+    with FieldCounter() as counter:
+        got = reachable(passable, source, index)
+    assert counter.count == 0  # a flood, not a distance field
+    np.testing.assert_array_equal(got, want)
+    assert _workspace_is_clean(belief.size)
+
+
+def reference_row(
+    strategy: MarketOccupancy, view: RobotView, points: npt.NDArray[np.int64]
+) -> npt.NDArray[np.float32]:
+    """MarketOccupancy.row as it was: a distance field to the points, every time."""
+    r = strategy.r or view.sensor_range
+    r_f = strategy.r_f or 2.0 * view.sensor_range
+    lambda_f = strategy.lambda_f or r_f
+    others = [q for robot, q in sorted(strategy.assigned.items()) if robot != strategy.robot_id]
+    reach = np.zeros(points.shape[0])
+    if points.shape[0]:
+        targets = np.zeros(view.belief.shape, dtype=bool)
+        targets[points[:, 0], points[:, 1]] = True
+        dist = distance_field(view.belief == FREE, view.position, targets=targets)
+        reach = dist[points[:, 0], points[:, 1]]
+    c = np.where(np.isfinite(reach), reach, 0.0) if strategy.cost == "path" else None
+    w = market.weight(
+        market.cost(view.position, points) if c is None else c,
+        market.utility(view.belief, points, r, strategy.lambda_u),
+        market.occupancy(points, others, r_f, lambda_f),
+    )
+    if points.shape[0]:
+        w = np.where(np.isfinite(reach) & (reach > 0), w, market.INFEASIBLE)
+    return float32_on_wire(np.minimum(w, market.INFEASIBLE))
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    beliefs(),
+    st.integers(0, 100_000),
+    st.lists(st.integers(0, 100_000), max_size=8),
+    st.sampled_from(["euclidean", "path"]),
+    st.booleans(),
+)
+def test_market_row_equals_a_field_per_row(
+    belief: npt.NDArray[np.int8], pick: int, picks: list[int], cost: str, detect_first: bool
+) -> None:
+    position = _cells(belief, [pick])[0]
+    view = RobotView(
+        robot_id=0,
+        n_robots=2,
+        tick=7,
+        position=position,
+        belief=belief,
+        goal=None,
+        path_remaining=0,
+        arrived=False,
+        blocked=False,
+        inbox=(),
+        subnetwork=frozenset({0, 1}),
+        sensor_range=3.0,
+        speed=1.0,
+        rng=np.random.default_rng(0),
+        new_cells=0,
+    )
+    strategy = MarketOccupancy(0, 2, cost=cost)
+    strategy.assigned = {1: _cells(belief, picks[:1] or [0])[0]}
+    if detect_first:  # the requester's own row: read from its detection of this tick
+        points = strategy.frontier_points(view)
+    else:  # another robot's points: any cells, repeated or not
+        points = np.array(_cells(belief, picks), dtype=np.int64).reshape(-1, 2)
+    np.testing.assert_array_equal(strategy.row(view, points), reference_row(strategy, view, points))

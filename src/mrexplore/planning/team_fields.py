@@ -38,7 +38,7 @@ import numpy.typing as npt
 
 from mrexplore.planning.distance import count_field, distance_field_kernel, extract_path
 
-__all__ = ["FieldWorkspace", "team_costs", "workspace", "workspace_path"]
+__all__ = ["FieldWorkspace", "reachable", "team_costs", "workspace", "workspace_path"]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -268,3 +268,103 @@ def workspace_path(
         # Stopped at the goal, or at once with no target; otherwise a whole component.
         farthest = reached if reached < math.inf else (0.0 if n_targets == 0 else math.inf)
         _reset(space.dist, space.state, height, width, int(start[0]), farthest)
+
+
+@numba.njit(cache=True, nogil=True)
+def reachable_kernel(
+    passable: BoolArray,
+    height: int,
+    width: int,
+    source: int,
+    target_mask: BoolArray,
+    target_index: IntArray,
+    visited: npt.NDArray[np.uint8],
+    queue: npt.NDArray[np.int32],
+    out: BoolArray,
+) -> int:
+    """``out[j]`` = whether ``target_index[j]`` is reachable from ``source``: a
+    breadth-first flood of the source's 4-connected component (the source counts as
+    passable), stopped once every target it can find is found.
+
+    ``visited`` must be all zero and is left so; ``queue`` is scratch of ``H W`` cells.
+    Returns the number of cells flooded.
+    """
+    need = 0
+    for j in range(target_index.shape[0]):
+        if passable[target_index[j]] or target_index[j] == source:
+            need += 1
+    visited[source] = 1
+    queue[0] = source
+    head = 0
+    tail = 1
+    found = 1 if target_mask[source] else 0
+    while head < tail and found < need:
+        u = queue[head]
+        head += 1
+        row = u // width
+        col = u - row * width
+        for k in range(4):
+            if k == 0:
+                if row == 0:
+                    continue
+                v = u - width
+            elif k == 1:
+                if row == height - 1:
+                    continue
+                v = u + width
+            elif k == 2:
+                if col == 0:
+                    continue
+                v = u - 1
+            else:
+                if col == width - 1:
+                    continue
+                v = u + 1
+            if passable[v] and visited[v] == 0:
+                visited[v] = 1
+                queue[tail] = v
+                tail += 1
+                if target_mask[v]:
+                    found += 1
+    for j in range(target_index.shape[0]):
+        out[j] = visited[target_index[j]] != 0
+    for i in range(tail):
+        visited[queue[i]] = 0
+    return tail
+
+
+def reachable(passable: BoolArray, source: tuple[int, int], target_index: IntArray) -> BoolArray:
+    """Whether each target can be reached from ``source``: exactly
+    ``np.isfinite(distance_field(passable, source, targets=mask))`` at the targets, without
+    the distances (a flood of the 4-connected component, which is what a robot can reach
+    with no corner cutting). Not a distance field: not counted by :func:`count_field`.
+
+    Inputs are trusted: ``passable`` an ``H x W`` bool grid, ``source`` inside it,
+    ``target_index`` distinct flat indices ``row * W + col``.
+
+    >>> free = np.ones((3, 3), dtype=bool)
+    >>> free[:, 1] = False
+    >>> reachable(free, (0, 0), np.array([6, 2])).tolist()
+    [True, False]
+    """
+    height, width = passable.shape
+    flat = np.ascontiguousarray(passable, dtype=np.bool_).reshape(-1)
+    space = workspace(height * width)
+    index = np.ascontiguousarray(target_index, dtype=np.int64)
+    out = np.empty(index.shape[0], dtype=np.bool_)
+    space.targets[index] = True
+    try:
+        reachable_kernel(
+            flat,
+            height,
+            width,
+            int(source[0]) * width + int(source[1]),
+            space.targets,
+            index,
+            space.state,
+            space.buckets[0],
+            out,
+        )
+    finally:
+        space.targets[index] = False
+    return out

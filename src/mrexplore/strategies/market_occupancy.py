@@ -293,7 +293,7 @@ from mrexplore.planning.rrt_frontiers import (
     RrtFrontierDetector,
     samples_per_tick,
 )
-from mrexplore.planning.team_fields import team_costs, workspace_path
+from mrexplore.planning.team_fields import reachable, team_costs, workspace_path
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -361,15 +361,16 @@ class WeightsPayload:
 
 @dataclass(frozen=True, slots=True)
 class FrontierReach:
-    """The path lengths (cells) from ``position`` to the frontier ``cells`` (sorted flat
-    indices) of a robot's map at ``tick``: the field of a frontier detection, kept so
-    that the row the robot computes over the points it just detected reads it instead
-    of searching again (same map, same source: the same values)."""
+    """Which frontier ``cells`` (sorted flat indices) of a robot's map at ``tick`` it can
+    reach from ``position``, and with ``cost=path`` their path lengths (cells): what a
+    frontier detection found, kept so that the row the robot computes over the points
+    it just detected reads it instead of searching again (same map, same source)."""
 
     tick: int
     position: Cell
     cells: IntArray
-    reach: FloatArray
+    reachable: npt.NDArray[np.bool_]
+    lengths: FloatArray | None
 
     def holds(self, view: RobotView, flat: IntArray) -> bool:
         """Whether this is ``view``'s tick and position and every cell of ``flat`` is here."""
@@ -378,9 +379,10 @@ class FrontierReach:
         where = np.minimum(np.searchsorted(self.cells, flat), self.cells.size - 1)
         return bool(np.array_equal(self.cells[where], flat))
 
-    def lookup(self, flat: IntArray) -> FloatArray:
-        """The path lengths to ``flat`` (cells :meth:`holds`)."""
-        return self.reach[np.searchsorted(self.cells, flat)]
+    def lookup(self, flat: IntArray) -> tuple[npt.NDArray[np.bool_], FloatArray | None]:
+        """Reachability and path lengths of ``flat`` (cells :meth:`holds`)."""
+        where = np.searchsorted(self.cells, flat)
+        return self.reachable[where], None if self.lengths is None else self.lengths[where]
 
 
 # ---------------------------------------------------------------- eqs. 3-6
@@ -724,23 +726,39 @@ class MarketOccupancy(FrontierStrategy):
         """The detector's reachable frontier points."""
         frontier = frontier_mask(view.belief)
         cells = np.flatnonzero(frontier)  # sorted
-        reach = team_costs(passable(view.belief), [view.position], cells)[0]
-        self.frontier_reach = FrontierReach(view.tick, view.position, cells, reach)
-        reachable = np.zeros(frontier.shape, dtype=np.bool_)
-        reachable.reshape(-1)[cells[np.isfinite(reach)]] = True
+        can_reach, lengths = self._reach(view, cells)
+        self.frontier_reach = FrontierReach(view.tick, view.position, cells, can_reach, lengths)
+        in_reach = np.zeros(frontier.shape, dtype=np.bool_)
+        in_reach.reshape(-1)[cells[can_reach]] = True
         if self.detector is not None:
             points = self.detector.points(view.belief)
             for _ in range(self.rrt_burst):
-                if reachable[points[:, 0], points[:, 1]].any():
+                if in_reach[points[:, 0], points[:, 1]].any():
                     break
                 self.detector.step(view.belief, view.position, view.rng)
                 points = self.detector.points(view.belief)
-            points = points[reachable[points[:, 0], points[:, 1]]]
-            if points.shape[0] or not reachable.any():
+            points = points[in_reach[points[:, 0], points[:, 1]]]
+            if points.shape[0] or not in_reach.any():
                 return self._filtered(view, points, "rrt_")  # Umari's filter node
             self.grid_fallbacks += 1  # the trees missed every frontier: use the grid's
-        clusters = frontier_clusters(reachable)
+        clusters = frontier_clusters(in_reach)
         return np.array([c.representative for c in clusters], dtype=np.int64).reshape(-1, 2)
+
+    def _reach(
+        self, view: RobotView, cells: IntArray
+    ) -> tuple[npt.NDArray[np.bool_], FloatArray | None]:
+        """Whether this robot can reach each of ``cells`` (distinct flat indices) over
+        cells it knows to be free, and with ``cost=path`` the path lengths (cells).
+
+        With the Euclidean cost (eq. 3) a point's path length only decides whether it
+        is feasible (reachable, and not the robot's own cell), so no distance field is
+        computed: a flood of the robot's component tells the same
+        (:func:`~mrexplore.planning.team_fields.reachable`).
+        """
+        if self.cost == "path":
+            lengths = team_costs(passable(view.belief), [view.position], cells)[0]
+            return np.isfinite(lengths), lengths
+        return reachable(passable(view.belief), view.position, cells), None
 
     def row(self, view: RobotView, points: IntArray) -> npt.NDArray[np.float32]:
         """Eqs. (3)-(6): this robot's weights over ``points``, as sent (float32)."""
@@ -748,15 +766,20 @@ class MarketOccupancy(FrontierStrategy):
         r_f = self.r_f or 2.0 * view.sensor_range
         lambda_f = self.lambda_f or r_f
         others = [q for robot, q in sorted(self.assigned.items()) if robot != self.robot_id]
-        reach = np.zeros(points.shape[0])
+        flat = points[:, 0].astype(np.int64) * view.belief.shape[1] + points[:, 1]
+        can_reach = np.zeros(points.shape[0], dtype=np.bool_)
+        reach = np.zeros(points.shape[0])  # path lengths, cells (cost=path)
         if points.shape[0]:
-            flat = points[:, 0].astype(np.int64) * view.belief.shape[1] + points[:, 1]
             known = self.frontier_reach
             if known is not None and known.holds(view, flat):
-                reach = known.lookup(flat)  # this tick's field from here: the same values
+                can_reach, lengths = known.lookup(flat)  # this tick's, from here
             else:
                 cells, inverse = np.unique(flat, return_inverse=True)
-                reach = team_costs(passable(view.belief), [view.position], cells)[0][inverse]
+                can_reach, lengths = self._reach(view, cells)
+                can_reach = can_reach[inverse]
+                lengths = None if lengths is None else lengths[inverse]
+            if lengths is not None:
+                reach = lengths
         c = np.where(np.isfinite(reach), reach, 0.0) if self.cost == "path" else None
         w = weight(
             cost(view.position, points) if c is None else c,
@@ -764,7 +787,13 @@ class MarketOccupancy(FrontierStrategy):
             occupancy(points, others, r_f, lambda_f),
         )
         if points.shape[0]:
-            w = np.where(np.isfinite(reach) & (reach > 0), w, INFEASIBLE)
+            if self.cost == "path":
+                feasible = np.isfinite(reach) & (reach > 0)
+            else:  # reachable and not here: the path length is finite and > 0
+                feasible = can_reach & (
+                    flat != view.position[0] * view.belief.shape[1] + view.position[1]
+                )
+            w = np.where(feasible, w, INFEASIBLE)
         return float32_on_wire(np.minimum(w, INFEASIBLE))
 
     def _weights_message(self, key: RoundKey, row: npt.NDArray[np.float32]) -> Message:
