@@ -1,6 +1,7 @@
 """The compiled team paths of issue 20 (burgard, market-occupancy) equal the plain
 formulations they replace, on random maps: costs from every robot to every target,
-paths in reused buffers, line of sight to a few targets, and burgard's assignment."""
+paths in reused buffers, reachability by a flood, line of sight to a few targets,
+burgard's assignment and market-occupancy's row."""
 
 from __future__ import annotations
 
@@ -15,7 +16,13 @@ from mrexplore.comm.bytes import float32_on_wire
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import distance_field, frontier_mask, path_to
 from mrexplore.planning.distance import FieldCounter
-from mrexplore.planning.team_fields import reachable, team_costs, workspace, workspace_path
+from mrexplore.planning.team_fields import (
+    Components,
+    reachable,
+    team_costs,
+    workspace,
+    workspace_path,
+)
 from mrexplore.planning.visibility import in_sight_kernel
 from mrexplore.sensing import visible_cells_flat
 from mrexplore.strategies import market_occupancy as market
@@ -316,3 +323,23 @@ def test_market_row_equals_a_field_per_row(
     else:  # another robot's points: any cells, repeated or not
         points = np.array(_cells(belief, picks), dtype=np.int64).reshape(-1, 2)
     np.testing.assert_array_equal(strategy.row(view, points), reference_row(strategy, view, points))
+
+
+@settings(max_examples=200, deadline=None)
+@given(beliefs(), st.lists(st.integers(0, 100_000), min_size=1, max_size=6), st.integers(0, 3))
+def test_kept_components_answer_as_a_flood_while_the_map_changes(
+    belief: npt.NDArray[np.int8], picks: list[int], lose_every: int
+) -> None:
+    """Cells become free step by step (and, every few steps, some stop being free):
+    the kept union-find answers what a fresh flood answers."""
+    rng = np.random.default_rng(len(picks) + belief.size)
+    passable = belief == FREE
+    components = Components()
+    for step, pick in enumerate(picks):
+        source = _cells(belief, [pick])[0]
+        index = np.flatnonzero(rng.random(belief.shape) < 0.3)
+        want = reachable(passable, source, index)
+        np.testing.assert_array_equal(components.reachable(passable, source, index), want)
+        passable = passable | (rng.random(belief.shape) < 0.2)
+        if lose_every and step % lose_every == 0:
+            passable = passable & (rng.random(belief.shape) < 0.9)

@@ -1,5 +1,6 @@
-"""Shortest-path costs from every robot of a team to every target, and paths to one
-goal, in reused buffers: the distance work of the centralised and market strategies.
+"""Shortest-path costs from every robot of a team to every target, paths to one goal
+and reachability, in reused buffers: the distance work of the centralised and market
+strategies.
 
 A strategy that weighs every (robot, target) pair needs one distance field per robot
 (:func:`~mrexplore.planning.distance.distance_field` from the robot, read at every
@@ -20,8 +21,12 @@ the searches:
   is exact: the float64 sums along the best path, the unique fixed point of the
   bucket Dijkstra), so the costs are those of :func:`distance_field`.
 * **One compiled pass** for all sources: search, read the targets, reset.
+* **No distances when only reachability is used** (:func:`reachable`): a
+  breadth-first flood of the source's 4-connected component gives exactly which
+  targets have a finite distance, at a fraction of a field's cost.
 
-Every search is counted by :func:`~mrexplore.planning.distance.count_field`.
+Every distance search is counted by :func:`~mrexplore.planning.distance.count_field`
+(a :func:`reachable` flood is not a distance field and is not counted).
 
 Units: distances in cells; flat indices are ``row * W + col``.
 """
@@ -38,7 +43,14 @@ import numpy.typing as npt
 
 from mrexplore.planning.distance import count_field, distance_field_kernel, extract_path
 
-__all__ = ["FieldWorkspace", "reachable", "team_costs", "workspace", "workspace_path"]
+__all__ = [
+    "Components",
+    "FieldWorkspace",
+    "reachable",
+    "team_costs",
+    "workspace",
+    "workspace_path",
+]
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
@@ -368,3 +380,138 @@ def reachable(passable: BoolArray, source: tuple[int, int], target_index: IntArr
     finally:
         space.targets[index] = False
     return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _find(parent: npt.NDArray[np.int32], cell: int) -> int:
+    while parent[cell] != cell:
+        parent[cell] = parent[parent[cell]]  # path halving
+        cell = parent[cell]
+    return cell
+
+
+@numba.njit(cache=True, nogil=True)
+def _join_cells(
+    parent: npt.NDArray[np.int32], passable: BoolArray, height: int, width: int, cells: IntArray
+) -> None:
+    """Union every cell of ``cells`` (passable) with its passable 4-neighbours."""
+    for k in range(cells.shape[0]):
+        u = cells[k]
+        row = u // width
+        col = u - row * width
+        for d in range(4):
+            if d == 0:
+                if row == 0:
+                    continue
+                v = u - width
+            elif d == 1:
+                if row == height - 1:
+                    continue
+                v = u + width
+            elif d == 2:
+                if col == 0:
+                    continue
+                v = u - 1
+            else:
+                if col == width - 1:
+                    continue
+                v = u + 1
+            if passable[v]:
+                a = _find(parent, u)
+                b = _find(parent, v)
+                if a != b:
+                    if a < b:
+                        parent[b] = a
+                    else:
+                        parent[a] = b
+
+
+@numba.njit(cache=True, nogil=True)
+def _reachable_by_roots(
+    parent: npt.NDArray[np.int32],
+    passable: BoolArray,
+    height: int,
+    width: int,
+    source: int,
+    target_index: IntArray,
+    out: BoolArray,
+) -> None:
+    """``out[j]``: ``target_index[j]`` is the source or a passable cell of its component
+    (a source that is not passable joins the components of its passable 4-neighbours)."""
+    roots = np.full(4, -1, dtype=np.int64)
+    if passable[source]:
+        roots[0] = _find(parent, source)
+    else:
+        row = source // width
+        col = source - row * width
+        if row > 0 and passable[source - width]:
+            roots[0] = _find(parent, source - width)
+        if row < height - 1 and passable[source + width]:
+            roots[1] = _find(parent, source + width)
+        if col > 0 and passable[source - 1]:
+            roots[2] = _find(parent, source - 1)
+        if col < width - 1 and passable[source + 1]:
+            roots[3] = _find(parent, source + 1)
+    for j in range(target_index.shape[0]):
+        t = target_index[j]
+        hit = t == source
+        if not hit and passable[t]:
+            root = _find(parent, t)
+            for k in range(4):
+                if roots[k] == root:
+                    hit = True
+        out[j] = hit
+
+
+class Components:
+    """The 4-connected components of one robot's passable cells, kept across calls.
+
+    A robot's known-free cells mostly only grow, so the union-find of the last call is
+    brought up to date by joining the cells that became passable since (a cell that
+    stopped being passable, e.g. under sensor noise, rebuilds it from scratch).
+    :meth:`reachable` then answers exactly what :func:`reachable` answers, without a
+    flood: the cost is one comparison of the grid with the last one, plus the new cells.
+    """
+
+    __slots__ = ("parent", "passable")
+
+    def __init__(self) -> None:
+        self.parent: npt.NDArray[np.int32] | None = None
+        self.passable: BoolArray | None = None
+
+    def reachable(
+        self, passable: BoolArray, source: tuple[int, int], target_index: IntArray
+    ) -> BoolArray:
+        """:func:`reachable` (the same answer), from the kept components.
+
+        >>> free = np.ones((3, 3), dtype=bool)
+        >>> free[:, 1] = False
+        >>> components = Components()
+        >>> components.reachable(free, (0, 0), np.array([6, 2])).tolist()
+        [True, False]
+        >>> free[1, 1] = True
+        >>> components.reachable(free, (0, 0), np.array([6, 2])).tolist()
+        [True, True]
+        """
+        height, width = passable.shape
+        flat = np.ascontiguousarray(passable, dtype=np.bool_).reshape(-1)
+        old = self.passable
+        if self.parent is None or old is None or old.shape != flat.shape or (old & ~flat).any():
+            self.parent = np.arange(flat.size, dtype=np.int32)
+            added = np.flatnonzero(flat)
+        else:
+            added = np.flatnonzero(flat & ~old)
+        self.passable = flat.copy()
+        if added.size:
+            _join_cells(self.parent, flat, height, width, added)
+        out = np.empty(target_index.shape[0], dtype=np.bool_)
+        _reachable_by_roots(
+            self.parent,
+            flat,
+            height,
+            width,
+            int(source[0]) * width + int(source[1]),
+            np.ascontiguousarray(target_index, dtype=np.int64),
+            out,
+        )
+        return out

@@ -293,7 +293,7 @@ from mrexplore.planning.rrt_frontiers import (
     RrtFrontierDetector,
     samples_per_tick,
 )
-from mrexplore.planning.team_fields import reachable, team_costs, workspace_path
+from mrexplore.planning.team_fields import Components, team_costs, workspace_path
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -695,6 +695,7 @@ class MarketOccupancy(FrontierStrategy):
         self.rounds_decided = 0
         self.grid_fallbacks = 0  # requests where the RRT found no point and the grid did
         self.frontier_reach: FrontierReach | None = None  # the last detection's field
+        self.components = Components()  # of this robot's known-free cells (cost=euclidean)
 
     # ------------------------------------------------------------ helpers
     def _round_timeout(self, view: RobotView) -> int:
@@ -752,13 +753,14 @@ class MarketOccupancy(FrontierStrategy):
 
         With the Euclidean cost (eq. 3) a point's path length only decides whether it
         is feasible (reachable, and not the robot's own cell), so no distance field is
-        computed: a flood of the robot's component tells the same
-        (:func:`~mrexplore.planning.team_fields.reachable`).
+        computed: the robot's components tell the same (kept across calls and brought
+        up to date with the cells its map added:
+        :class:`~mrexplore.planning.team_fields.Components`).
         """
         if self.cost == "path":
             lengths = team_costs(passable(view.belief), [view.position], cells)[0]
             return np.isfinite(lengths), lengths
-        return reachable(passable(view.belief), view.position, cells), None
+        return self.components.reachable(passable(view.belief), view.position, cells), None
 
     def row(self, view: RobotView, points: IntArray) -> npt.NDArray[np.float32]:
         """Eqs. (3)-(6): this robot's weights over ``points``, as sent (float32)."""
