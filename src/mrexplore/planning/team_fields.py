@@ -463,6 +463,22 @@ def _reachable_by_roots(
         out[j] = hit
 
 
+@numba.njit(cache=True, nogil=True)
+def _added_cells(kept: BoolArray, passable: BoolArray, added: IntArray) -> int:
+    """Write the cells passable now and not in ``kept`` to ``added`` and mark them in
+    ``kept``; returns how many, or -1 as soon as a cell of ``kept`` is no longer passable
+    (``kept`` is then partly updated: rebuild)."""
+    n_added = 0
+    for i in range(passable.shape[0]):
+        if passable[i] != kept[i]:
+            if kept[i]:
+                return -1
+            kept[i] = True
+            added[n_added] = i
+            n_added += 1
+    return n_added
+
+
 class Components:
     """The 4-connected components of one robot's passable cells, kept across calls.
 
@@ -495,18 +511,21 @@ class Components:
         """
         height, width = passable.shape
         flat = np.ascontiguousarray(passable, dtype=np.bool_).reshape(-1)
-        old = self.passable
-        if self.parent is None or old is None or old.shape != flat.shape or (old & ~flat).any():
-            self.parent = np.arange(flat.size, dtype=np.int32)
+        kept, parent = self.passable, self.parent
+        n_added = -1
+        if parent is not None and kept is not None and kept.shape == flat.shape:
+            added = np.empty(flat.size, dtype=np.int64)  # pages touched only when written
+            n_added = _added_cells(kept, flat, added)
+            added = added[:n_added]
+        if parent is None or n_added < 0:  # first call, another grid, or a cell lost
+            parent = self.parent = np.arange(flat.size, dtype=np.int32)
+            self.passable = flat.copy()
             added = np.flatnonzero(flat)
-        else:
-            added = np.flatnonzero(flat & ~old)
-        self.passable = flat.copy()
         if added.size:
-            _join_cells(self.parent, flat, height, width, added)
+            _join_cells(parent, flat, height, width, added)
         out = np.empty(target_index.shape[0], dtype=np.bool_)
         _reachable_by_roots(
-            self.parent,
+            parent,
             flat,
             height,
             width,

@@ -696,10 +696,15 @@ class MarketOccupancy(FrontierStrategy):
         self.grid_fallbacks = 0  # requests where the RRT found no point and the grid did
         self.frontier_reach: FrontierReach | None = None  # the last detection's field
         self.components = Components()  # of this robot's known-free cells (cost=euclidean)
+        self.timeout_for: tuple[tuple[object, ...], int] | None = None  # (topology, ticks)
 
     # ------------------------------------------------------------ helpers
     def _round_timeout(self, view: RobotView) -> int:
-        return round_timeout(self.round_timeout, view, self.robot_id)
+        # The same topology gives the same wait: hop counts only when it changed.
+        topology = (view.subnetwork, view.links, view.comm_latency)
+        if self.timeout_for is None or self.timeout_for[0] != topology:
+            self.timeout_for = (topology, round_timeout(self.round_timeout, view, self.robot_id))
+        return self.timeout_for[1]
 
     def _request_timeout(self, view: RobotView) -> int:
         return request_timeout(self.request_timeout, self._round_timeout(view))
