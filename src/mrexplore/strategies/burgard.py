@@ -116,6 +116,7 @@ from mrexplore.comm.bytes import BID_BYTES, BROADCAST, STATUS_BYTES, fixed_size
 from mrexplore.comm.messages import BID, STATUS, Message, StatusItem, item_message
 from mrexplore.grid.occupancy import OCCUPIED
 from mrexplore.planning import distance_field, frontier_mask
+from mrexplore.planning.team_fields import team_costs
 from mrexplore.strategies.base import Cell, Decision, Param, RobotView, passable
 from mrexplore.strategies.coordinated import CoordinatedWithFallback
 from mrexplore.strategies.utility import UtilityDiscounting, coverage_probability, discount
@@ -182,19 +183,26 @@ def assign_greedy(
     others' costs are path lengths on ``belief_passable``. Returns a goal for every
     robot that can reach a target.
     """
-    rows, cols = np.nonzero(frontier)
+    width = frontier.shape[1]
+    flat = np.flatnonzero(frontier)  # row-major: sorted
+    rows, cols = np.divmod(flat, width)
     utility = np.ones(rows.size, dtype=np.float64)
     for goal in held_goals.values():
         discount(utility, rows, cols, goal, max_range, occupied)
+    # One field per robot that did not bid, all in one compiled pass (team_costs).
+    planned = [r for r in robots if bids is None or r not in bids]
+    fields = team_costs(belief_passable, [positions[r] for r in planned], flat)
     costs: dict[int, npt.NDArray[np.float64]] = {}
     for robot in robots:
         if bids is not None and robot in bids:
-            sent = np.full(frontier.shape, np.inf)
-            sent[bids[robot].rows, bids[robot].cols] = bids[robot].costs
-            cost = sent[rows, cols]
+            cost = np.full(flat.size, np.inf)
+            sent = bids[robot]
+            where = np.searchsorted(flat, sent.rows * width + sent.cols)
+            hit = where < flat.size
+            hit[hit] = flat[where[hit]] == (sent.rows * width + sent.cols)[hit]
+            cost[where[hit]] = sent.costs[hit]
         else:
-            dist = distance_field(belief_passable, positions[robot], targets=frontier)
-            cost = dist[rows, cols]
+            cost = fields[planned.index(robot)]
         cost[(rows == positions[robot][0]) & (cols == positions[robot][1])] = np.inf
         for cell in (unreachable or {}).get(robot, ()):
             cost[(rows == cell[0]) & (cols == cell[1])] = np.inf

@@ -8,7 +8,9 @@ such method does the same way lives here:
   the robots hold (:attr:`~CoordinatedStrategy.held_goals`), reading an ``assign``
   from the inbox, sending one (an :class:`~mrexplore.comm.messages.CellItem`,
   ``HEADER_BYTES + TARGET_BYTES``), and following an assigned goal on the robot's own
-  belief (:meth:`~CoordinatedStrategy.follow`, by :func:`~mrexplore.planning.path_to`).
+  belief (:meth:`~CoordinatedStrategy.follow`, by
+  :func:`~mrexplore.planning.team_fields.workspace_path`, :func:`~mrexplore.planning.path_to`
+  in reused buffers).
 * :class:`CoordinatedWithFallback`: the same with the two rules of
   :mod:`mrexplore.strategies.fallback` for lossy links and blocked targets (a robot
   left without an answer plans for a team of one; a target it was blocked on is
@@ -24,7 +26,7 @@ from abc import abstractmethod
 from typing import Any
 
 from mrexplore.comm.messages import ASSIGN, CellItem, item_message
-from mrexplore.planning import path_to
+from mrexplore.planning.team_fields import workspace_path
 from mrexplore.strategies.base import Cell, Decision, FrontierStrategy, RobotView, passable
 from mrexplore.strategies.fallback import (
     BlockedTargets,
@@ -72,7 +74,7 @@ class CoordinatedStrategy(FrontierStrategy):
         change when it stands there already, may not go there or cannot reach it."""
         if goal == view.position or not self.allows(goal):
             return Decision()
-        path = path_to(passable(view.belief), view.position, goal)
+        path = workspace_path(passable(view.belief), view.position, goal)
         if path is None:
             return Decision()
         self.last_plan_tick = view.tick

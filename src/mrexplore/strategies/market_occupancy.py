@@ -283,18 +283,17 @@ from mrexplore.comm.messages import Message
 from mrexplore.errors import ScenarioError
 from mrexplore.grid.occupancy import BeliefGrid
 from mrexplore.planning import (
-    distance_field,
     filter_by_gain,
     frontier_clusters,
     frontier_mask,
     information_gain,
-    path_to,
 )
 from mrexplore.planning.rrt_frontiers import (
     CLUSTERINGS,
     RrtFrontierDetector,
     samples_per_tick,
 )
+from mrexplore.planning.team_fields import Components, team_costs, workspace_path
 from mrexplore.strategies.base import (
     Cell,
     Decision,
@@ -358,6 +357,32 @@ class WeightsPayload:
     key: RoundKey
     robot: int
     row: npt.NDArray[np.float32]
+
+
+@dataclass(frozen=True, slots=True)
+class FrontierReach:
+    """Which frontier ``cells`` (sorted flat indices) of a robot's map at ``tick`` it can
+    reach from ``position``, and with ``cost=path`` their path lengths (cells): what a
+    frontier detection found, kept so that the row the robot computes over the points
+    it just detected reads it instead of searching again (same map, same source)."""
+
+    tick: int
+    position: Cell
+    cells: IntArray
+    reachable: npt.NDArray[np.bool_]
+    lengths: FloatArray | None
+
+    def holds(self, view: RobotView, flat: IntArray) -> bool:
+        """Whether this is ``view``'s tick and position and every cell of ``flat`` is here."""
+        if self.tick != view.tick or self.position != view.position or not self.cells.size:
+            return False
+        where = np.minimum(np.searchsorted(self.cells, flat), self.cells.size - 1)
+        return bool(np.array_equal(self.cells[where], flat))
+
+    def lookup(self, flat: IntArray) -> tuple[npt.NDArray[np.bool_], FloatArray | None]:
+        """Reachability and path lengths of ``flat`` (cells :meth:`holds`)."""
+        where = np.searchsorted(self.cells, flat)
+        return self.reachable[where], None if self.lengths is None else self.lengths[where]
 
 
 # ---------------------------------------------------------------- eqs. 3-6
@@ -669,10 +694,17 @@ class MarketOccupancy(FrontierStrategy):
         self.detector: RrtFrontierDetector | None = None
         self.rounds_decided = 0
         self.grid_fallbacks = 0  # requests where the RRT found no point and the grid did
+        self.frontier_reach: FrontierReach | None = None  # the last detection's field
+        self.components = Components()  # of this robot's known-free cells (cost=euclidean)
+        self.timeout_for: tuple[tuple[object, ...], int] | None = None  # (topology, ticks)
 
     # ------------------------------------------------------------ helpers
     def _round_timeout(self, view: RobotView) -> int:
-        return round_timeout(self.round_timeout, view, self.robot_id)
+        # The same topology gives the same wait: hop counts only when it changed.
+        topology = (view.subnetwork, view.links, view.comm_latency)
+        if self.timeout_for is None or self.timeout_for[0] != topology:
+            self.timeout_for = (topology, round_timeout(self.round_timeout, view, self.robot_id))
+        return self.timeout_for[1]
 
     def _request_timeout(self, view: RobotView) -> int:
         return request_timeout(self.request_timeout, self._round_timeout(view))
@@ -699,21 +731,41 @@ class MarketOccupancy(FrontierStrategy):
     def _detected(self, view: RobotView) -> IntArray:
         """The detector's reachable frontier points."""
         frontier = frontier_mask(view.belief)
-        reach = distance_field(passable(view.belief), view.position, targets=frontier)
-        reachable = frontier & np.isfinite(reach)
+        cells = np.flatnonzero(frontier)  # sorted
+        can_reach, lengths = self._reach(view, cells)
+        self.frontier_reach = FrontierReach(view.tick, view.position, cells, can_reach, lengths)
+        in_reach = np.zeros(frontier.shape, dtype=np.bool_)
+        in_reach.reshape(-1)[cells[can_reach]] = True
         if self.detector is not None:
             points = self.detector.points(view.belief)
             for _ in range(self.rrt_burst):
-                if reachable[points[:, 0], points[:, 1]].any():
+                if in_reach[points[:, 0], points[:, 1]].any():
                     break
                 self.detector.step(view.belief, view.position, view.rng)
                 points = self.detector.points(view.belief)
-            points = points[reachable[points[:, 0], points[:, 1]]]
-            if points.shape[0] or not reachable.any():
+            points = points[in_reach[points[:, 0], points[:, 1]]]
+            if points.shape[0] or not in_reach.any():
                 return self._filtered(view, points, "rrt_")  # Umari's filter node
             self.grid_fallbacks += 1  # the trees missed every frontier: use the grid's
-        clusters = frontier_clusters(reachable)
+        clusters = frontier_clusters(in_reach)
         return np.array([c.representative for c in clusters], dtype=np.int64).reshape(-1, 2)
+
+    def _reach(
+        self, view: RobotView, cells: IntArray
+    ) -> tuple[npt.NDArray[np.bool_], FloatArray | None]:
+        """Whether this robot can reach each of ``cells`` (distinct flat indices) over
+        cells it knows to be free, and with ``cost=path`` the path lengths (cells).
+
+        With the Euclidean cost (eq. 3) a point's path length only decides whether it
+        is feasible (reachable, and not the robot's own cell), so no distance field is
+        computed: the robot's components tell the same (kept across calls and brought
+        up to date with the cells its map added:
+        :class:`~mrexplore.planning.team_fields.Components`).
+        """
+        if self.cost == "path":
+            lengths = team_costs(passable(view.belief), [view.position], cells)[0]
+            return np.isfinite(lengths), lengths
+        return self.components.reachable(passable(view.belief), view.position, cells), None
 
     def row(self, view: RobotView, points: IntArray) -> npt.NDArray[np.float32]:
         """Eqs. (3)-(6): this robot's weights over ``points``, as sent (float32)."""
@@ -721,12 +773,20 @@ class MarketOccupancy(FrontierStrategy):
         r_f = self.r_f or 2.0 * view.sensor_range
         lambda_f = self.lambda_f or r_f
         others = [q for robot, q in sorted(self.assigned.items()) if robot != self.robot_id]
-        reach = np.zeros(points.shape[0])
+        flat = points[:, 0].astype(np.int64) * view.belief.shape[1] + points[:, 1]
+        can_reach = np.zeros(points.shape[0], dtype=np.bool_)
+        reach = np.zeros(points.shape[0])  # path lengths, cells (cost=path)
         if points.shape[0]:
-            targets = np.zeros(view.belief.shape, dtype=bool)
-            targets[points[:, 0], points[:, 1]] = True
-            dist = distance_field(passable(view.belief), view.position, targets=targets)
-            reach = dist[points[:, 0], points[:, 1]]
+            known = self.frontier_reach
+            if known is not None and known.holds(view, flat):
+                can_reach, lengths = known.lookup(flat)  # this tick's, from here
+            else:
+                cells, inverse = np.unique(flat, return_inverse=True)
+                can_reach, lengths = self._reach(view, cells)
+                can_reach = can_reach[inverse]
+                lengths = None if lengths is None else lengths[inverse]
+            if lengths is not None:
+                reach = lengths
         c = np.where(np.isfinite(reach), reach, 0.0) if self.cost == "path" else None
         w = weight(
             cost(view.position, points) if c is None else c,
@@ -734,7 +794,13 @@ class MarketOccupancy(FrontierStrategy):
             occupancy(points, others, r_f, lambda_f),
         )
         if points.shape[0]:
-            w = np.where(np.isfinite(reach) & (reach > 0), w, INFEASIBLE)
+            if self.cost == "path":
+                feasible = np.isfinite(reach) & (reach > 0)
+            else:  # reachable and not here: the path length is finite and > 0
+                feasible = can_reach & (
+                    flat != view.position[0] * view.belief.shape[1] + view.position[1]
+                )
+            w = np.where(feasible, w, INFEASIBLE)
         return float32_on_wire(np.minimum(w, INFEASIBLE))
 
     def _weights_message(self, key: RoundKey, row: npt.NDArray[np.float32]) -> Message:
@@ -863,7 +929,7 @@ class MarketOccupancy(FrontierStrategy):
         """Head for an assigned point, planning over this robot's known-free cells."""
         if goal in (view.goal, view.position):
             return Decision()
-        path = path_to(passable(view.belief), view.position, goal)
+        path = workspace_path(passable(view.belief), view.position, goal)
         if path is None:
             return Decision()
         self.last_plan_tick = view.tick

@@ -11,7 +11,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from mrexplore.sensing import visible_cells_flat
+from mrexplore.planning._validate import as_bool_grid, as_cell, as_radius
+from mrexplore.planning.visibility import in_sight_kernel
 from mrexplore.strategies.base import Cell, Param, declared_params
 
 
@@ -77,7 +78,14 @@ def discount(
     d = np.hypot(target_rows - goal[0], target_cols - goal[1])
     reduction = coverage_probability(d, max_range)
     if occupied is not None and reduction.any():
-        seen = np.zeros(occupied.size, dtype=bool)
-        seen[visible_cells_flat(occupied, goal, max_range)] = True
-        reduction = np.where(seen[target_rows * occupied.shape[1] + target_cols], reduction, 0.0)
+        # One line of sight per target the discount reaches (those within max_range,
+        # all inside the goal's disk), not the goal's whole disk: the same cells.
+        grid = as_bool_grid(occupied, "occupied")
+        row, col = as_cell(goal, grid.shape, "goal")
+        as_radius(max_range, "max_range")
+        rows = np.ascontiguousarray(target_rows, dtype=np.int64)
+        cols = np.ascontiguousarray(target_cols, dtype=np.int64)
+        seen = np.empty(rows.shape[0], dtype=np.bool_)
+        in_sight_kernel(grid, row, col, rows, cols, reduction > 0, seen)
+        reduction = np.where(seen, reduction, 0.0)
     utility -= reduction
