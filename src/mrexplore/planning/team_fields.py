@@ -7,7 +7,7 @@ A strategy that weighs every (robot, target) pair needs one distance field per r
 target). This module computes exactly those values, bit for bit, with less around
 the searches:
 
-* **Buffers kept per thread** (:class:`FieldWorkspace`): an ``H x W`` field written
+* **Buffers kept per thread** (:class:`TeamBuffers`): an ``H x W`` field written
   into fresh memory pays a page fault per 4 KiB page, as much as a tenth of a search
   at 685 x 744 cells. The buffers are reset in place after each search.
 * **Stop at the farthest reachable target**: :func:`distance_field` with ``targets``
@@ -45,7 +45,7 @@ from mrexplore.planning.distance import count_field, distance_field_kernel, extr
 
 __all__ = [
     "Components",
-    "FieldWorkspace",
+    "TeamBuffers",
     "reachable",
     "team_costs",
     "workspace",
@@ -57,10 +57,15 @@ IntArray = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
 
 
-class FieldWorkspace:
+class TeamBuffers:
     """The buffers of :func:`~mrexplore.planning.distance.distance_field_kernel` for
     grids of ``n_cells`` cells, in their state between searches: ``dist`` all ``inf``,
-    ``state`` all zero, ``targets`` all ``False``; ``buckets`` is scratch."""
+    ``state`` all zero, ``targets`` all ``False``; ``buckets`` is scratch.
+
+    Plain buffers for the all-sources pass of :func:`team_costs_kernel`, which resets
+    by rows; :class:`mrexplore.planning.multi_fields.FieldWorkspace` is the one-search-
+    at-a-time workspace that resets only the cells a search touched.
+    """
 
     __slots__ = ("buckets", "dist", "n_cells", "state", "targets")
 
@@ -75,12 +80,12 @@ class FieldWorkspace:
 _local = threading.local()
 
 
-def workspace(n_cells: int) -> FieldWorkspace:
-    """This thread's :class:`FieldWorkspace` for grids of ``n_cells`` cells (kept for
+def workspace(n_cells: int) -> TeamBuffers:
+    """This thread's :class:`TeamBuffers` for grids of ``n_cells`` cells (kept for
     the next call; one grid size at a time)."""
-    kept: FieldWorkspace | None = getattr(_local, "workspace", None)
+    kept: TeamBuffers | None = getattr(_local, "workspace", None)
     if kept is None or kept.n_cells != n_cells:
-        kept = _local.workspace = FieldWorkspace(n_cells)
+        kept = _local.workspace = TeamBuffers(n_cells)
     return kept
 
 
@@ -137,7 +142,7 @@ def team_costs_kernel(
         sources: flat indices of the sources.
         target_mask: flat mask, ``True`` exactly at the cells of ``target_index``.
         target_index: flat indices of the targets, each once.
-        dist, state, buckets: a :class:`FieldWorkspace`'s buffers (left reset).
+        dist, state, buckets: a :class:`TeamBuffers`'s buffers (left reset).
         out: ``(len(sources), len(target_index))`` float64, written.
 
     Returns:
@@ -233,7 +238,7 @@ def workspace_path(
     passable: BoolArray, start: tuple[int, int], goal: tuple[int, int]
 ) -> npt.NDArray[np.int32] | None:
     """:func:`~mrexplore.planning.paths.path_to` (the same path, or ``None``), with its
-    search in this thread's :class:`FieldWorkspace` instead of fresh arrays.
+    search in this thread's :class:`TeamBuffers` instead of fresh arrays.
 
     Inputs are trusted: ``passable`` an ``H x W`` bool grid, both cells inside it.
 
