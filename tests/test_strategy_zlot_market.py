@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from conftest import robot_view
 from mrexplore.checks import check_strategy
 from mrexplore.comm.bytes import BID_BYTES, TARGET_BYTES, fixed_size
 from mrexplore.comm.messages import BID, Message
@@ -324,22 +325,14 @@ def test_generate_goals_matches_the_full_field_formulation(seed: int) -> None:
         market.tour = [held[0]]
         market.foreign_goals = {held[1]: 1, held[2]: 2}
     views = [
-        RobotView(
-            robot_id=0,
+        robot_view(
+            belief,
+            position,
             n_robots=3,
             tick=0,
-            position=position,
-            belief=belief,
-            goal=None,
-            path_remaining=0,
-            arrived=False,
-            blocked=False,
-            inbox=(),
             subnetwork=frozenset({0, 1}),
             sensor_range=3.0,
-            speed=1.0,
             rng=np.random.default_rng(seed),
-            new_cells=0,
         )
         for _ in range(2)
     ]

@@ -12,6 +12,7 @@ import numpy.typing as npt
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import robot_view
 from mrexplore.comm.bytes import float32_on_wire
 from mrexplore.grid.occupancy import FREE, OCCUPIED, UNKNOWN
 from mrexplore.planning import distance_field, frontier_mask, path_to
@@ -299,22 +300,8 @@ def test_market_row_equals_a_field_per_row(
     belief: npt.NDArray[np.int8], pick: int, picks: list[int], cost: str, detect_first: bool
 ) -> None:
     position = _cells(belief, [pick])[0]
-    view = RobotView(
-        robot_id=0,
-        n_robots=2,
-        tick=7,
-        position=position,
-        belief=belief,
-        goal=None,
-        path_remaining=0,
-        arrived=False,
-        blocked=False,
-        inbox=(),
-        subnetwork=frozenset({0, 1}),
-        sensor_range=3.0,
-        speed=1.0,
-        rng=np.random.default_rng(0),
-        new_cells=0,
+    view = robot_view(
+        belief, position, n_robots=2, tick=7, subnetwork=frozenset({0, 1}), sensor_range=3.0
     )
     strategy = MarketOccupancy(0, 2, cost=cost)
     strategy.assigned = {1: _cells(belief, picks[:1] or [0])[0]}
