@@ -287,6 +287,21 @@ def workspace_path(
         _reset(space.dist, space.state, height, width, int(start[0]), farthest)
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _neighbour4(u: int, k: int, height: int, width: int) -> int:
+    """The ``k``-th 4-neighbour of flat cell ``u`` (up, down, left, right), ``-1`` off
+    the grid."""
+    row = u // width
+    col = u - row * width
+    if k == 0:
+        return u - width if row > 0 else -1
+    if k == 1:
+        return u + width if row < height - 1 else -1
+    if k == 2:
+        return u - 1 if col > 0 else -1
+    return u + 1 if col < width - 1 else -1
+
+
 @numba.njit(cache=True, nogil=True)
 def reachable_kernel(
     passable: BoolArray,
@@ -318,25 +333,10 @@ def reachable_kernel(
     while head < tail and found < need:
         u = queue[head]
         head += 1
-        row = u // width
-        col = u - row * width
         for k in range(4):
-            if k == 0:
-                if row == 0:
-                    continue
-                v = u - width
-            elif k == 1:
-                if row == height - 1:
-                    continue
-                v = u + width
-            elif k == 2:
-                if col == 0:
-                    continue
-                v = u - 1
-            else:
-                if col == width - 1:
-                    continue
-                v = u + 1
+            v = _neighbour4(u, k, height, width)
+            if v < 0:
+                continue
             if passable[v] and visited[v] == 0:
                 visited[v] = 1
                 queue[tail] = v
@@ -402,25 +402,10 @@ def _join_cells(
     """Union every cell of ``cells`` (passable) with its passable 4-neighbours."""
     for k in range(cells.shape[0]):
         u = cells[k]
-        row = u // width
-        col = u - row * width
         for d in range(4):
-            if d == 0:
-                if row == 0:
-                    continue
-                v = u - width
-            elif d == 1:
-                if row == height - 1:
-                    continue
-                v = u + width
-            elif d == 2:
-                if col == 0:
-                    continue
-                v = u - 1
-            else:
-                if col == width - 1:
-                    continue
-                v = u + 1
+            v = _neighbour4(u, d, height, width)
+            if v < 0:
+                continue
             if passable[v]:
                 a = _find(parent, u)
                 b = _find(parent, v)
