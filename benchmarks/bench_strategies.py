@@ -81,11 +81,9 @@ def run_once(args: list[str], timeout: float) -> dict[str, Any]:
 
 def field_seconds(base: list[str]) -> float:
     """Median seconds of one full compiled distance field on the map of ``base``."""
-    import statistics
-
     import numpy as np
+    from bench_suite import field_time
 
-    from mrexplore.planning import distance_field
     from mrexplore.sim import Scenario
     from mrexplore.sim.world import build_world
 
@@ -98,14 +96,7 @@ def field_seconds(base: list[str]) -> float:
         robots=int(options.get("--robots", "1")),
     )
     world = build_world(scenario, np.random.default_rng(0))
-    free = np.ascontiguousarray(world.grid.free)
-    distance_field(free, world.starts[0])  # compile or load
-    times = []
-    for _ in range(5):
-        started = time.perf_counter()
-        distance_field(free, world.starts[0])
-        times.append(time.perf_counter() - started)
-    return statistics.median(times)
+    return field_time(world.grid.free, world.starts[0])
 
 
 def table(
