@@ -230,8 +230,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--fail",
         action="append",
         default=[],
-        metavar="ROBOT@TICK",
-        help="robot ROBOT (an id from 0) fails at tick TICK (repeatable; default: none)",
+        metavar="ROBOT@TICK|ROBOT@P%",
+        help="robot ROBOT (an id from 0) fails at tick TICK, or mid-run at the first tick "
+        "after the team knows P%% of the explorable cells; ROBOT 'any' with P%% is one robot "
+        "drawn from the seed (repeatable; default: none)",
     )
     _add_number(
         comm,
@@ -322,6 +324,47 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--resume", action="store_true", help="run only the runs missing from --out")
     sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
     sweep.add_argument("--dry-run", action="store_true", help="list the runs, run nothing")
+
+    suite = sub.add_parser(
+        "suite", help="benchmark suites: run strategies on a versioned suite, leaderboards"
+    )
+    suite_sub = suite.add_subparsers(dest="suite_command", required=True, metavar="COMMAND")
+    suite_sub.add_parser("list", help="the suites that ship with mrexplore")
+    suite_show = suite_sub.add_parser("show", help="print a suite's file")
+    suite_show.add_argument("suite", help="a shipped suite's name or a suite file")
+    suite_run = suite_sub.add_parser(
+        "run", help="run strategies on every instance of a suite into a results folder"
+    )
+    suite_run.add_argument("suite", help="a shipped suite's name (standard-v1) or a suite file")
+    suite_run.add_argument(
+        "--strategies",
+        required=True,
+        help="'all' (every registered strategy, plugins included) or ID,ID,...",
+    )
+    suite_run.add_argument(
+        "--out",
+        required=True,
+        help="results folder; a folder of the same suite is continued (runs already "
+        "stored are skipped, new strategies added)",
+    )
+    _add_engine_options(suite_run)
+    suite_run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    suite_run.add_argument("--dry-run", action="store_true", help="count the runs, run nothing")
+    suite_report = suite_sub.add_parser(
+        "report", help="leaderboard of a suite's results folder (Markdown, PNG, HTML)"
+    )
+    suite_report.add_argument("dir", help="results folder written by `mrexplore suite run`")
+    suite_report.add_argument("--out", help="folder of leaderboard.md/.html (default: DIR)")
+    suite_report.add_argument(
+        "--baseline",
+        default="nearest-frontier",
+        help="strategy for paired win rates and differences (default: nearest-frontier)",
+    )
+    suite_merge = suite_sub.add_parser(
+        "merge", help="join results folders of one suite version into a new folder"
+    )
+    suite_merge.add_argument("dirs", nargs="+", help="results folders of `mrexplore suite run`")
+    suite_merge.add_argument("--out", required=True, help="new folder for the joined results")
 
     query = sub.add_parser("query", help="SQL over a results folder (tables runs, curves)")
     query.add_argument("dir", help="results folder written by `mrexplore sweep`")
@@ -453,7 +496,14 @@ _COMM_KEYS = ("range", "los", "bandwidth", "latency", "loss")
 
 
 def _scenario_from_args(args: argparse.Namespace) -> Any:
-    from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
+    from mrexplore.sim.scenario import (
+        Scenario,
+        is_coverage_failure,
+        parse_cells,
+        parse_coverage_failure,
+        parse_failure,
+        parse_size,
+    )
 
     params = _pairs("--set", args.params)
     start: Any = args.start
@@ -476,7 +526,8 @@ def _scenario_from_args(args: argparse.Namespace) -> Any:
         sensing=args.sensing,
         sharing=args.sharing,
         sharing_params=_pairs("--share", args.share),
-        fail=[parse_failure(item) for item in args.fail],
+        fail=[parse_failure(item) for item in args.fail if not is_coverage_failure(item)],
+        fail_at_coverage=[parse_coverage_failure(i) for i in args.fail if is_coverage_failure(i)],
         failure_rate=args.failure_rate,
         **_comm_settings(args),
         coverage_threshold=args.coverage_threshold,
@@ -742,6 +793,81 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_suite(args: argparse.Namespace) -> int:
+    from mrexplore.experiments import suite as suites
+
+    if args.suite_command == "list":
+        for name in suites.shipped_suites():
+            suite = suites.load_suite(name)
+            print(
+                f"{name:<20} version {suite.version}, hash {suite.content_hash}, "
+                f"{suite.n_instances} instances: {suite.description}"
+            )
+        return 0
+    if args.suite_command == "show":
+        print(suites.load_suite(args.suite).text, end="")
+        return 0
+    if args.suite_command == "run":
+        suite = suites.load_suite(args.suite)
+        strategies = suites.strategies_to_run(args.strategies)
+        if args.dry_run:
+            print(
+                f"{suite.name}: {suite.n_instances} instances x {len(strategies)} strategies "
+                f"= {len(suite.runs(strategies))} runs"
+            )
+            return 0
+        try:
+            summary = suites.run_suite(suite, strategies, args.out, **_engine_options(args))
+        except KeyboardInterrupt as stop:
+            from mrexplore.experiments import Store
+
+            kept = len(Store(args.out).done_ids())
+            stop.args = (f"{kept} runs kept in {args.out}; run the same command to continue",)
+            raise
+        print(
+            f"{summary.done} runs done ({summary.failed} failed), {summary.skipped} already "
+            f"in {args.out}, {summary.total} for {suite.name} x {len(strategies)} strategies; "
+            f"{summary.wall_time_s:.1f} s"
+        )
+        return 0
+    if args.suite_command == "merge":
+        _check_out_dir(args.out)
+        merged = suites.merge_folders(args.dirs, args.out)
+        print(
+            f"{merged.runs} runs of {len(merged.strategies)} strategies in {args.out} "
+            f"({merged.duplicates} stored twice, kept once)"
+        )
+        return 0
+    return cmd_suite_report(args)
+
+
+def cmd_suite_report(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from mrexplore.experiments import Store
+    from mrexplore.experiments.leaderboard import write_leaderboard
+    from mrexplore.experiments.suite import check_one_suite
+
+    suite = check_one_suite([args.dir])
+    runs = (
+        Store(args.dir).query("SELECT * FROM runs ORDER BY run_id")
+        if Store(args.dir).exists()
+        else None
+    )
+    if runs is None or runs.num_rows == 0:
+        raise ScenarioError(f"{args.dir}: the suite's results folder holds no runs yet")
+    out = Path(args.out) if args.out else Path(args.dir)
+    _check_out_dir(str(out))
+    files = write_leaderboard(
+        runs,
+        out,
+        baseline=args.baseline,
+        title=f"Leaderboard: {suite.name} (version {suite.version}, hash {suite.content_hash})",
+    )
+    print(f"leaderboard: {files.markdown} and {files.html}")
+    return 0
+
+
 def cmd_query(args: argparse.Namespace) -> int:
     from mrexplore.experiments import Store
 
@@ -822,6 +948,7 @@ COMMANDS = {
     "engines": cmd_engines,
     "reproductions": cmd_reproductions,
     "sweep": cmd_sweep,
+    "suite": cmd_suite,
     "query": cmd_query,
     "report": cmd_report,
     "reproduce": cmd_reproduce,

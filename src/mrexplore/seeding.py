@@ -12,7 +12,17 @@ from dataclasses import dataclass
 import numpy as np
 
 # The order of these names is part of reproducibility: append, never reorder.
-_STREAMS = ("map", "starts", "comm", "failures", "robots", "start_times", "sensor", "odometry")
+_STREAMS = (
+    "map",
+    "starts",
+    "comm",
+    "failures",
+    "robots",
+    "start_times",
+    "sensor",
+    "odometry",
+    "fail_choice",
+)
 
 
 @dataclass(frozen=True)
@@ -29,6 +39,8 @@ class Streams:
     """Each robot's sensor errors (:mod:`mrexplore.sim.noise`)."""
     odometry: tuple[np.random.Generator, ...]
     """Each robot's odometry errors."""
+    fail_choice: np.random.Generator
+    """Which robot ``--fail any@P%`` fails."""
 
 
 def make_streams(seed: int, n_robots: int) -> Streams:
@@ -50,4 +62,5 @@ def make_streams(seed: int, n_robots: int) -> Streams:
         start_times=np.random.default_rng(named["start_times"]),
         sensor=tuple(np.random.default_rng(s) for s in named["sensor"].spawn(n_robots)),
         odometry=tuple(np.random.default_rng(s) for s in named["odometry"].spawn(n_robots)),
+        fail_choice=np.random.default_rng(named["fail_choice"]),
     )

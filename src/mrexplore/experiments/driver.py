@@ -75,10 +75,26 @@ def run_sweep(
     if resume:
         _check_resume(sweep, specs, out, store, new_text)
     store.create()
+    _record_sweep_file(root / "sweep.toml", new_text)
+    return run_specs(specs, out, engine=engine, workers=workers, address=address, progress=progress)
+
+
+def run_specs(
+    specs: list[RunSpec],
+    out: str | Path,
+    *,
+    engine: str | Engine = "local",
+    workers: int | None = None,
+    address: str | None = None,
+    progress: bool = True,
+    desc: str = "sweep",
+) -> SweepSummary:
+    """Run every run of ``specs`` not yet stored in the results folder ``out`` and
+    store its rows (the folder's checks are the caller's: :func:`run_sweep`, a suite)."""
+    store = Store(out)
+    store.create()
     store.recover()
     store.compact(minimum=COMPACT_AFTER)
-    _record_sweep_file(root / "sweep.toml", new_text)
-
     done = store.done_ids()
     todo = [spec for spec in specs if spec.run_id not in done]
     started = time.perf_counter()
@@ -90,7 +106,7 @@ def run_sweep(
             if isinstance(engine, Engine)
             else make_engine(engine, workers, address)
         )
-    bar = _progress(len(specs), len(specs) - len(todo), progress)
+    bar = _progress(len(specs), len(specs) - len(todo), progress, desc)
     try:
         if context is not None:
             with context as runner:
@@ -212,6 +228,7 @@ def _lost(spec: RunSpec, lost: WorkerLost) -> RunOutcome:
 
     row = {
         "run_id": spec.run_id,
+        **dict(spec.tags),
         **scenario_columns(spec.scenario),
         "status": "failed",
         "error": f"WorkerLost: {lost}",
@@ -220,7 +237,7 @@ def _lost(spec: RunSpec, lost: WorkerLost) -> RunOutcome:
     return RunOutcome(spec.run_id, row)
 
 
-def _progress(total: int, initial: int, enabled: bool):  # type: ignore[no-untyped-def]
+def _progress(total: int, initial: int, enabled: bool, desc: str = "sweep"):  # type: ignore[no-untyped-def]
     """A tqdm bar on stderr: runs done (of all), failed, rate and ETA."""
     if not enabled:
         return None
@@ -230,7 +247,7 @@ def _progress(total: int, initial: int, enabled: bool):  # type: ignore[no-untyp
         total=total,
         initial=initial,
         unit="run",
-        desc="sweep",
+        desc=desc,
         file=sys.stderr,
         dynamic_ncols=True,
         smoothing=0.1,

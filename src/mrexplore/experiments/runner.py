@@ -58,7 +58,7 @@ def scenario_columns(scenario: Scenario) -> dict[str, Any]:
     for key, value in data.items():
         if key == "start" and not isinstance(value, str):
             value = ";".join(f"{r},{c}" for r, c in value)
-        elif key == "fail":
+        elif key in ("fail", "fail_at_coverage"):
             value = ",".join(value) if value else None
         out[key] = value
     out.update({f"param_{k}": _scalar(v) for k, v in params.items()})
@@ -75,7 +75,7 @@ def execute(spec: RunSpec) -> RunOutcome:
     from mrexplore.sim.engine import Simulation
 
     started = time.perf_counter()
-    base = {"run_id": spec.run_id, **scenario_columns(spec.scenario)}
+    base = {"run_id": spec.run_id, **dict(spec.tags), **scenario_columns(spec.scenario)}
     try:
         # Per-robot beliefs are for viewers; a sweep stores no traces.
         record = Simulation(spec.scenario, record_beliefs=False).run()

@@ -61,6 +61,13 @@ class Store:
             self._write(pa.Table.from_pydict(outcome.curves), "curves", f"run-{outcome.run_id}")
         self._write(pa.Table.from_pylist([outcome.row]), "runs", f"run-{outcome.run_id}")
 
+    def write_batch(self, table: pa.Table, kind: str) -> Path:
+        """Write many rows of table ``kind`` (``runs`` or ``curves``) as one batch file,
+        durably; rows go before their ``runs`` rows as in :meth:`append`."""
+        if kind not in TABLES:
+            raise ValueError(f"{kind}: not a table of the store ({', '.join(TABLES)})")
+        return self._write(table, kind, f"batch-{uuid.uuid4().hex}")
+
     def _write(self, table: pa.Table, kind: str, stem: str) -> Path:
         import pyarrow.parquet as pq
 

@@ -42,7 +42,14 @@ from pathlib import Path
 from typing import Any
 
 from mrexplore.errors import MrexploreInputError, SweepError
-from mrexplore.sim.scenario import Scenario, parse_cells, parse_failure, parse_size
+from mrexplore.sim.scenario import (
+    Scenario,
+    is_coverage_failure,
+    parse_cells,
+    parse_coverage_failure,
+    parse_failure,
+    parse_size,
+)
 
 SCENARIO_KEYS: tuple[str, ...] = tuple(
     f.name for f in fields(Scenario) if f.name not in ("params", "sharing_params", "seed")
@@ -59,6 +66,8 @@ class RunSpec:
     run_id: str
     scenario: Scenario
     curves_every: int = 10
+    tags: tuple[tuple[str, Any], ...] = ()
+    """Extra columns of the run's row (a suite's name, version, hash and regime)."""
 
 
 @dataclass
@@ -126,6 +135,11 @@ class Sweep:
             else:
                 settings[key] = value
         label = _label(seed, chosen)
+        if "fail" in settings:  # ROBOT@P% items of "fail" are mid-run failures
+            items = settings["fail"] if isinstance(settings["fail"], list) else [settings["fail"]]
+            midrun = [str(item) for item in items if is_coverage_failure(str(item))]
+            if midrun:
+                settings["fail_at_coverage"] = [*settings.get("fail_at_coverage", []), *midrun]
         try:
             converted = {key: _convert(key, value) for key, value in settings.items()}
             scenario = Scenario(seed=seed, params=params, sharing_params=share, **converted)
@@ -147,6 +161,7 @@ LATER_FIELDS: dict[str, Any] = {
     "sensor_params": {},
     "odometry_noise": 0.0,
     "odometry_params": {},
+    "fail_at_coverage": [],
 }
 
 
@@ -187,7 +202,10 @@ def _convert(key: str, value: Any) -> Any:
         return (int(value[0]), int(value[1]))
     if key == "fail":
         items = value if isinstance(value, list) else [value]
-        return [parse_failure(str(item)) for item in items]
+        return [parse_failure(str(item)) for item in items if not is_coverage_failure(str(item))]
+    if key == "fail_at_coverage":
+        items = value if isinstance(value, list) else [value]
+        return [parse_coverage_failure(str(item)) for item in items]
     if key == "start" and isinstance(value, str) and value not in ("together", "separate"):
         return parse_cells(value)
     if key in (

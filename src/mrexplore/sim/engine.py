@@ -217,7 +217,7 @@ class Simulation:
         self.tick += 1
         tick = self.tick
         self.roster.wake(tick)
-        self.roster.fail(tick)
+        self.roster.fail(tick, self.known_explorable / self.n_explorable)
         self.comms.update_links(tick, self.roster.alive())
         self.comms.deliver(tick)
         self.deciding.decide(tick, decide)

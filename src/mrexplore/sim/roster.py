@@ -78,6 +78,13 @@ class Roster:
         """Robots failing at a tick (``fail``), by tick."""
         for robot_id, fail_tick in scenario.fail:
             self.failures.setdefault(fail_tick, []).append(robot_id)
+        self.coverage_failures: list[tuple[int, float]] = []
+        """Robots failing once the team's knowledge reaches a share (``fail_at_coverage``),
+        ``any`` already drawn."""
+        for robot_id, share in scenario.fail_at_coverage:
+            if robot_id == -1:
+                robot_id = int(streams.fail_choice.integers(n))
+            self.coverage_failures.append((robot_id, share))
         self.failed: set[int] = set()
         self.failure_rate = scenario.failure_rate
         self._failure_draws = streams.failures
@@ -101,13 +108,19 @@ class Roster:
         for robot_id in self.wakes.pop(tick, []):
             self.robots[robot_id].alive = robot_id not in self.failed
 
-    def fail(self, tick: int) -> None:
+    def fail(self, tick: int, coverage: float = 0.0) -> None:
         """Robots failing at ``tick`` stop moving, sensing and communicating.
 
+        ``coverage`` is the share of explorable cells the team knew at the end of the
+        last tick: robots of ``fail_at_coverage`` whose share it reached fail now.
         A failed robot stays where it is, an obstacle for the others; a dormant robot
         that fails never wakes.
         """
         failing = set(self.failures.get(tick, []))
+        if self.coverage_failures:
+            reached = [item for item in self.coverage_failures if coverage >= item[1]]
+            failing |= {robot_id for robot_id, _ in reached}
+            self.coverage_failures = [i for i in self.coverage_failures if i not in reached]
         if self.failure_rate > 0:
             draws = self._failure_draws.random(len(self.robots))
             failing |= {r.id for r in self.robots if r.alive and draws[r.id] < self.failure_rate}

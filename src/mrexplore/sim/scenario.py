@@ -75,6 +75,11 @@ class Scenario:
         comm_params: the communication model's own parameters (``--comm key=value``
             with a key other than range, los, bandwidth, latency and loss).
         fail: robots that fail, as ``(robot, tick)`` pairs, at most one per robot.
+        fail_at_coverage: robots that fail mid-run, as ``(robot, share)`` pairs
+            (``--fail ROBOT@P%``): the robot fails at the first tick after the team's
+            knowledge covers ``share`` of the explorable cells; robot ``-1`` (``any``)
+            is one robot drawn uniformly from the seed (the same robot for every
+            strategy run with that seed).
         failure_rate: probability per tick that each live robot fails.
         sharing: map-sharing mechanism id; ``None`` = the strategy's default (``full``
             for most, ``polygon`` for ``meier-polygon``).
@@ -124,6 +129,7 @@ class Scenario:
     comm_model: str = "network"
     comm_params: dict[str, Any] = field(default_factory=dict)
     fail: list[tuple[int, int]] = field(default_factory=list)
+    fail_at_coverage: list[tuple[int, float]] = field(default_factory=list)
     failure_rate: float = 0.0
     sharing: str | None = None
     sharing_params: dict[str, Any] = field(default_factory=dict)
@@ -309,6 +315,29 @@ class Scenario:
                     f"{failing[robot]}; a robot fails once (one --fail per robot)"
                 )
             failing[robot] = tick
+        if not isinstance(self.fail_at_coverage, Sequence) or not all(
+            isinstance(item, Sequence)
+            and not isinstance(item, str)
+            and len(item) == 2
+            and _is_int(item[0])
+            and _is_real(item[1])
+            for item in self.fail_at_coverage
+        ):
+            raise ScenarioError(
+                f"--fail {self.fail_at_coverage!r}: expected a list of (robot, share of cells)"
+            )
+        for robot, share in self.fail_at_coverage:
+            text = format_coverage_failure(robot, share)
+            if not -1 <= robot < self.robots:
+                raise ScenarioError(f"--fail {text}: no robot {robot} in a team of {self.robots}")
+            if not 0.0 < share < 1.0:
+                raise ScenarioError(f"--fail {text}: the share must be between 0% and 100%")
+            if robot in failing:
+                raise ScenarioError(
+                    f"--fail {text}: robot {robot} already fails; a robot fails once "
+                    "(one --fail per robot)"
+                )
+            failing[robot] = 0
 
     def _check_ids(self) -> None:
         """The map exists; the strategy, the comm model, the sharing mechanism and their
@@ -341,6 +370,9 @@ class Scenario:
         if not isinstance(self.start, str):
             data["start"] = [list(cell) for cell in self.start]
         data["fail"] = [f"{robot}@{tick}" for robot, tick in self.fail]
+        data["fail_at_coverage"] = [
+            format_coverage_failure(robot, share) for robot, share in self.fail_at_coverage
+        ]
         return data
 
 
@@ -446,7 +478,36 @@ def parse_failure(text: str) -> tuple[int, int]:
             raise ValueError(text)
         return int(robot), int(tick)
     except ValueError:
-        raise ScenarioError(f"--fail {text!r}: expected ROBOT@TICK, e.g. 2@150") from None
+        raise ScenarioError(
+            f"--fail {text!r}: expected ROBOT@TICK or ROBOT@P%, e.g. 2@150 or any@50%"
+        ) from None
+
+
+def is_coverage_failure(text: str) -> bool:
+    """Whether ``text`` is the mid-run form ``ROBOT@P%`` of ``--fail``."""
+    return text.strip().endswith("%")
+
+
+def parse_coverage_failure(text: str) -> tuple[int, float]:
+    """Parse ``"ROBOT@P%"`` (``ROBOT`` an id or ``any``, which is ``-1``).
+
+    >>> parse_coverage_failure("any@50%"), parse_coverage_failure("2@12.5%")
+    ((-1, 0.5), (2, 0.125))
+    """
+    robot, sep, share = text.strip().partition("@")
+    try:
+        if not sep or not share.endswith("%"):
+            raise ValueError(text)
+        return (-1 if robot == "any" else int(robot)), float(share[:-1]) / 100.0
+    except ValueError:
+        raise ScenarioError(
+            f"--fail {text!r}: expected ROBOT@P% (ROBOT an id or 'any'), e.g. any@50%"
+        ) from None
+
+
+def format_coverage_failure(robot: int, share: float) -> str:
+    """The ``--fail`` text of a mid-run failure: ``any@50%``, ``2@12.5%``."""
+    return f"{'any' if robot == -1 else robot}@{share * 100:g}%"
 
 
 def parse_cells(text: str) -> list[Cell]:
