@@ -10,7 +10,8 @@ import argparse
 import logging
 import signal
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any, NoReturn
 
 from mrexplore import __version__
@@ -763,6 +764,19 @@ def _check_engine(engine: str) -> None:
         raise EngineError(f"--engine {engine}: choose one of {', '.join(ENGINES)}")
 
 
+@contextmanager
+def _saying_what_is_kept(out: str, how: str) -> Iterator[None]:
+    """On Ctrl-C or SIGTERM, the interrupt's message says how many runs ``out`` keeps."""
+    try:
+        yield
+    except KeyboardInterrupt as stop:
+        from mrexplore.experiments import Store
+
+        kept = len(Store(out).done_ids())
+        stop.args = (f"{kept} runs kept in {out}, {how}",)
+        raise
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     from mrexplore.experiments import load_sweep, run_sweep
 
@@ -778,14 +792,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"{len(sweep)} runs")
         return 0
     _check_out_dir(args.out)
-    try:
+    with _saying_what_is_kept(args.out, "resume with --resume"):
         summary = run_sweep(sweep, args.out, resume=args.resume, **_engine_options(args))
-    except KeyboardInterrupt as stop:  # Ctrl-C or SIGTERM: say what is kept
-        from mrexplore.experiments import Store
-
-        kept = len(Store(args.out).done_ids())
-        stop.args = (f"{kept} runs kept in {args.out}, resume with --resume",)
-        raise
     print(
         f"{summary.done} runs done ({summary.failed} failed), {summary.skipped} already in "
         f"{args.out}, {summary.total} in the sweep; {summary.wall_time_s:.1f} s"
@@ -816,14 +824,8 @@ def cmd_suite(args: argparse.Namespace) -> int:
                 f"= {len(suite.runs(strategies))} runs"
             )
             return 0
-        try:
+        with _saying_what_is_kept(args.out, "run the same command to continue"):
             summary = suites.run_suite(suite, strategies, args.out, **_engine_options(args))
-        except KeyboardInterrupt as stop:
-            from mrexplore.experiments import Store
-
-            kept = len(Store(args.out).done_ids())
-            stop.args = (f"{kept} runs kept in {args.out}; run the same command to continue",)
-            raise
         print(
             f"{summary.done} runs done ({summary.failed} failed), {summary.skipped} already "
             f"in {args.out}, {summary.total} for {suite.name} x {len(strategies)} strategies; "
