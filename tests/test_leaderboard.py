@@ -292,7 +292,7 @@ def test_row_order_changes_nothing(runs: pa.Table, random: Any) -> None:
         assert a.regime == b.regime
         assert a.matrix.instances == b.matrix.instances
         np.testing.assert_array_equal(a.ranks, b.ranks)
-        assert a.standings == b.standings
+        assert repr(a.standings) == repr(b.standings)  # nan-safe
         assert a.friedman == b.friedman and a.groups == b.groups
 
 

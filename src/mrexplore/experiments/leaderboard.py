@@ -112,7 +112,7 @@ ALPHA = 0.05
 SUMMARY_METRICS: tuple[tuple[str, str], ...] = (
     ("total_distance", "distance (cells)"),
     ("bytes_total", "bytes"),
-    ("wtv_8_final", "final WTV (8 regions)"),
+    ("wtv_8_final", "final WTV, 8 regions (ticks²)"),
 )
 
 _MISSING = "—"
@@ -586,7 +586,7 @@ class Cell:
 
 
 @dataclass(frozen=True)
-class Table:
+class TableBlock:
     """A table with an id (HTML), a key per column and the index of its first number column."""
 
     table_id: str
@@ -620,7 +620,7 @@ class Image:
     alt: str
 
 
-Block = Heading | Paragraph | Bullets | Table | Image
+Block = Heading | Paragraph | Bullets | TableBlock | Image
 
 
 def _number(value: float) -> Cell:
@@ -643,7 +643,7 @@ def _difference_cell(summary: Summary | None) -> Cell:
     return Cell(f"{cell.text} (n={summary.n})", cell.value)
 
 
-def _standings_table(board: RegimeBoard, index: int, baseline: str | None) -> Table:
+def _standings_table(board: RegimeBoard, index: int, baseline: str | None) -> TableBlock:
     against = board.baseline or baseline or "baseline"
     header = (
         "#",
@@ -685,10 +685,12 @@ def _standings_table(board: RegimeBoard, index: int, baseline: str | None) -> Ta
                 _difference_cell(s.difference),
             )
         )
-    return Table(f"leaderboard-{index + 1}-{_slug(board.regime)}", header, keys, tuple(rows), 2)
+    return TableBlock(
+        f"leaderboard-{index + 1}-{_slug(board.regime)}", header, keys, tuple(rows), 2
+    )
 
 
-def _status_table(boards: Sequence[RegimeBoard]) -> Table:
+def _status_table(boards: Sequence[RegimeBoard]) -> TableBlock:
     statuses = list(STATUSES)
     for board in boards:
         statuses += sorted(s for s in board.statuses if s not in statuses)
@@ -708,7 +710,7 @@ def _status_table(boards: Sequence[RegimeBoard]) -> Table:
                 *(Cell(str(c), c) for c in counts),
             )
         )
-    return Table("statuses", header, keys, tuple(rows), 1)
+    return TableBlock("statuses", header, keys, tuple(rows), 1)
 
 
 def _regime_blocks(
@@ -829,7 +831,8 @@ def _document(
             "the ticks to 99% coverage, lower is better; a run that never reached 99% "
             "(max_ticks, stalled, failed) ranks after every run that did, and such runs "
             "share the average of their ranks. Mean rank is over the instances every "
-            "strategy ran. T99 reached: runs that reached 99% of those run. Means carry "
+            "strategy ran, and so are all the columns. T99 reached: runs that reached 99% "
+            "of those. Means carry "
             f"their {100 * CONFIDENCE:.0f}% t CI (± half-width, {_MISSING} when undefined); "
             "T99 is averaged over the runs that reached it. Wins: share of instances where "
             "the strategy's T99 is lower than the baseline's (not reaching 99% is "
@@ -856,7 +859,7 @@ def render_markdown(blocks: Sequence[Block]) -> str:
             lines += [_escape(block.text), ""]
         elif isinstance(block, Bullets):
             lines += [*(f"- {_escape(item)}" for item in block.items), ""]
-        elif isinstance(block, Table):
+        elif isinstance(block, TableBlock):
             rows = [[_escape(cell.text) for cell in row] for row in block.rows]
             lines += [*_table(block.header, rows, block.numeric_from), ""]
         else:
@@ -867,7 +870,8 @@ def render_markdown(blocks: Sequence[Block]) -> str:
 _CSS = """
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 75em; color: #222; }
 table { border-collapse: collapse; margin: 1em 0; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; white-space: nowrap; }
+div.scroll { overflow-x: auto; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 th { background: #f3f3f3; cursor: pointer; user-select: none; white-space: nowrap; }
 th[aria-sort="ascending"]::after { content: " \\25B2"; }
@@ -918,10 +922,10 @@ _SCRIPT = """
 """
 
 
-def _html_table(table: Table) -> str:
+def _html_table(table: TableBlock) -> str:
+    # A column sorts as numbers when every value it holds is a number.
     numeric = [
         all(isinstance(row[i].value, int | float) or row[i].value is None for row in table.rows)
-        and i >= table.numeric_from
         for i in range(len(table.header))
     ]
     head = "".join(
@@ -940,8 +944,8 @@ def _html_table(table: Table) -> str:
             )
         body.append(f'<tr data-index="{index}">{"".join(cells)}</tr>')
     return (
-        f'<table class="sortable" id="{html.escape(table.table_id)}">'
-        f"<thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+        f'<div class="scroll"><table class="sortable" id="{html.escape(table.table_id)}">'
+        f"<thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table></div>"
     )
 
 
@@ -957,7 +961,7 @@ def render_html(blocks: Sequence[Block], out_dir: Path, title: str) -> str:
         elif isinstance(block, Bullets):
             items = "".join(f"<li>{html.escape(item)}</li>" for item in block.items)
             parts.append(f"<ul>{items}</ul>")
-        elif isinstance(block, Table):
+        elif isinstance(block, TableBlock):
             parts.append(_html_table(block))
         else:
             data = base64.b64encode((out_dir / block.path).read_bytes()).decode("ascii")
@@ -972,7 +976,7 @@ def render_html(blocks: Sequence[Block], out_dir: Path, title: str) -> str:
 
 # ----------------------------------------------------------------------- figures
 
-_CD_WIDTH_IN = 8.0
+_CD_MIN_WIDTH_IN = 8.0
 _CD_ROW_IN = 0.27
 _CD_GROUP_IN = 0.12
 _CD_DPI = 120
@@ -982,8 +986,25 @@ def _cd_height(k: int, n_groups: int) -> float:
     return 1.25 + _CD_GROUP_IN * n_groups + _CD_ROW_IN * math.ceil(k / 2)
 
 
+def _text_space(names: Iterable[str]) -> float:
+    """Inches beside the axis for the longest ``name (1.23)`` label."""
+    longest = max((len(f"{name} (0.00)") for name in names), default=0)
+    return max(0.3 + 0.07 * longest, 1.2)
+
+
+def _cd_width(boards: Sequence[RegimeBoard]) -> float:
+    """One width for every panel: room for the names and 0.6 inch per rank."""
+    widths = [
+        2 * _text_space(board.matrix.strategies) + 0.6 * (len(board.matrix.strategies) - 1)
+        for board in boards
+        if board.friedman is not None
+    ]
+    return max([_CD_MIN_WIDTH_IN, *widths])
+
+
 def _draw_cd(
     ax: Any,
+    width: float,
     mean_rank: Mapping[str, float],
     cd: float,
     groups: Sequence[Sequence[str]],
@@ -991,15 +1012,13 @@ def _draw_cd(
     height: float,
 ) -> None:
     """Demšar's diagram on ``ax``, whose data coordinates are inches from the top left."""
-    width = _CD_WIDTH_IN
     ax.set_xlim(0, width)
     ax.set_ylim(height, 0)
     ax.set_axis_off()
     ax.text(width / 2, 0.18, title, ha="center", va="center", fontsize=10, parse_math=False)
     order = sorted(mean_rank, key=lambda name: (mean_rank[name], name))
     k = len(order)
-    longest = max(len(f"{name} (0.00)") for name in order)
-    text_space = min(max(0.3 + 0.07 * longest, 1.2), 3.2)
+    text_space = _text_space(order)
 
     def x_of(rank: float) -> float:
         return text_space + (rank - 1) / (k - 1) * (width - 2 * text_space)
@@ -1044,14 +1063,14 @@ def _draw_cd(
             )  # fmt: skip
 
 
-def _cd_panel(ax: Any, board: RegimeBoard, height: float) -> None:
+def _cd_panel(ax: Any, board: RegimeBoard, width: float, height: float) -> None:
     if board.friedman is None:
-        ax.set_xlim(0, _CD_WIDTH_IN)
+        ax.set_xlim(0, width)
         ax.set_ylim(height, 0)
         ax.set_axis_off()
         k, n = len(board.matrix.strategies), len(board.matrix.instances)
         ax.text(
-            _CD_WIDTH_IN / 2, height / 2,
+            width / 2, height / 2,
             f"{board.regime}: no critical-difference diagram ({k} strategies, {n} instances; "
             "it needs 3 and 2)",
             ha="center", va="center", fontsize=10, parse_math=False,
@@ -1063,6 +1082,7 @@ def _cd_panel(ax: Any, board: RegimeBoard, height: float) -> None:
     )
     _draw_cd(
         ax,
+        width,
         {s.strategy: s.mean_rank for s in board.standings},
         board.cd,
         board.groups,
@@ -1084,13 +1104,14 @@ def draw_cd_diagrams(boards: Sequence[RegimeBoard], path: Path) -> Path:
 
     heights = [_panel_height(board) for board in boards]
     total = sum(heights)
-    fig = Figure(figsize=(_CD_WIDTH_IN, total), dpi=_CD_DPI)
+    width = _cd_width(boards)
+    fig = Figure(figsize=(width, total), dpi=_CD_DPI)
     FigureCanvasAgg(fig)
     top = total
     for board, height in zip(boards, heights, strict=True):
         top -= height
         ax = fig.add_axes((0.0, top / total, 1.0, height / total))
-        _cd_panel(ax, board, height)
+        _cd_panel(ax, board, width, height)
     fig.savefig(path, format="png", dpi=_CD_DPI)
     return path
 
