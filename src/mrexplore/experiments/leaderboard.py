@@ -363,6 +363,7 @@ def instance_matrix(runs: pa.Table) -> InstanceMatrix:
         else [""] * runs.num_rows
     )
     t99_all = _floats(runs, "T99")
+    t99_all[[status == "failed" for status in statuses]] = np.nan  # never a time, whatever it says
     strategies = tuple(sorted(set(strategies_of)))
     chosen: dict[tuple[Any, ...], dict[str, int]] = {}
     duplicates = 0
@@ -476,7 +477,10 @@ def regime_board(runs: pa.Table, regime: str, baseline: str | None) -> RegimeBoa
     for j, strategy in enumerate(matrix.strategies):
         rows = matrix.rows[:, j]
         t99 = matrix.t99[:, j]
-        compared = base_t99 is not None and strategy != base
+        if base_t99 is not None and strategy != base:
+            wins, difference = win_rate(t99, base_t99), paired_difference(t99, base_t99)
+        else:
+            wins, difference = math.nan, None
         standings.append(
             Standing(
                 strategy=strategy,
@@ -485,10 +489,8 @@ def regime_board(runs: pa.Table, regime: str, baseline: str | None) -> RegimeBoa
                 reached=int(np.count_nonzero(np.isfinite(t99))),
                 t99=summarize_metric(t99),
                 metrics={name: summarize_metric(v[rows]) for name, v in metric_values.items()},
-                win_rate=win_rate(t99, base_t99) if compared and base_t99 is not None else math.nan,
-                difference=paired_difference(t99, base_t99)
-                if compared and base_t99 is not None
-                else None,
+                win_rate=wins,
+                difference=difference,
             )
         )
     standings.sort(key=lambda s: (s.mean_rank if n else 0.0, s.strategy))
