@@ -301,6 +301,7 @@ def test_suite_report_through_the_cli(
     markdown = (out / "leaderboard.md").read_text()
     for name in ("nearest-frontier", "burgard", "simmons", "unlimited", "lossy", "Friedman"):
         assert name in markdown
+    assert markdown.index("Regime: unlimited") < markdown.index("Regime: lossy")  # file order
     assert (out / "leaderboard.html").is_file() and (out / "leaderboard.png").is_file()
     assert main(["suite", "report", str(tmp_path)]) == 2
     assert "not a suite's results folder" in capsys.readouterr().err

@@ -864,6 +864,7 @@ def cmd_suite_report(args: argparse.Namespace) -> int:
         runs,
         out,
         baseline=args.baseline,
+        regime_order=[regime.name for regime in suite.regimes],
         title=f"Leaderboard: {suite.name} (version {suite.version}, hash {suite.content_hash})",
     )
     print(f"leaderboard: {files.markdown} and {files.html}")

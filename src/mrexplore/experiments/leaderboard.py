@@ -555,17 +555,26 @@ def check_runs(runs: pa.Table) -> SuiteIdentity:
     )
 
 
-def regimes(runs: pa.Table) -> list[str]:
-    """The regimes of ``runs``, sorted by name (so row order never matters)."""
-    return sorted({str(v) for v in runs.column("regime").to_pylist()})
+def regimes(runs: pa.Table, order: Sequence[str] = ()) -> list[str]:
+    """The regimes of ``runs``: those named in ``order`` first, in that order (a suite
+    file's order), then the others sorted by name (so row order never matters)."""
+    present = {str(v) for v in runs.column("regime").to_pylist()}
+    first = [r for r in dict.fromkeys(order) if r in present]
+    return first + sorted(present - set(first))
 
 
-def leaderboard(runs: pa.Table, *, baseline: str | None = "nearest-frontier") -> list[RegimeBoard]:
-    """One :class:`RegimeBoard` per regime of ``runs`` (checked by :func:`check_runs`)."""
+def leaderboard(
+    runs: pa.Table,
+    *,
+    baseline: str | None = "nearest-frontier",
+    regime_order: Sequence[str] = (),
+) -> list[RegimeBoard]:
+    """One :class:`RegimeBoard` per regime of ``runs`` (checked by :func:`check_runs`),
+    in :func:`regimes` order."""
     check_runs(runs)
     regime_column = runs.column("regime")
     boards = []
-    for regime in regimes(runs):
+    for regime in regimes(runs, regime_order):
         subset = runs.filter(pc.equal(pc.cast(regime_column, pa.string()), regime))
         boards.append(regime_board(subset, regime, baseline))
     return boards
@@ -998,8 +1007,10 @@ def write_leaderboard(
     *,
     baseline: str = "nearest-frontier",
     title: str | None = None,
+    regime_order: Sequence[str] = (),
 ) -> LeaderboardFiles:
     """Write the leaderboard of one suite's ``runs`` into ``out_dir`` (created if needed).
+    Regimes come in ``regime_order`` (the suite file's order), others after, by name.
 
     Args:
         runs: one row per run with the columns of :data:`REQUIRED_COLUMNS` (and
@@ -1017,7 +1028,7 @@ def write_leaderboard(
     from mrexplore.viz.leaderboard import draw_cd_diagrams, draw_pareto
 
     suite = check_runs(runs)
-    boards = leaderboard(runs, baseline=baseline)
+    boards = leaderboard(runs, baseline=baseline, regime_order=regime_order)
     if not any(baseline in board.matrix.strategies for board in boards):
         logger.warning("baseline %s has no runs in this suite's results", baseline)
     heading = title or f"Leaderboard: {suite.name} (version {suite.version})"
