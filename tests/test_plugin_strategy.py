@@ -21,6 +21,7 @@ import shutil
 import subprocess
 import sys
 from collections.abc import Iterator
+from dataclasses import replace
 from pathlib import Path
 from types import ModuleType
 
@@ -28,6 +29,7 @@ import numpy as np
 import pytest
 
 from mrexplore.checks import check_strategy
+from mrexplore.sim import Scenario, simulate
 from mrexplore.strategies.registry import STRATEGIES
 
 REPO = Path(__file__).resolve().parents[1]
@@ -68,6 +70,29 @@ def test_the_example_declares_lambda_with_its_unit(example_class: type) -> None:
     assert (decay.default, decay.unit, decay.symbol) == (0.2, "1/cell", "lambda")
     robot = example_class(0, 2, distance_decay="0.05")  # as `--set distance_decay=0.05`
     assert robot.distance_decay == 0.05
+
+
+def test_a_failed_robot_in_a_door_does_not_freeze_the_team(example_class: type) -> None:
+    """standard-v1-quick, harsh regime, room-64-64-8, 4 robots, seed 1: robot 3 fails in
+    front of a one-cell door that the others' best frontier lies behind. Without the
+    blocked-targets rule they were sent through it until the run stalled."""
+    scenario = Scenario(
+        map="room-64-64-8",
+        robots=4,
+        strategy=STRATEGY,
+        seed=1,
+        sensor_range=16,
+        comm_range=20,
+        comm_los=True,
+        loss=0.1,
+        bandwidth=1250,
+        fail_at_coverage=[(-1, 0.5)],  # --fail any@50%
+        sharing="sheng-sync",
+    )
+    record = simulate(scenario)
+    assert record.result()["robots_failed"] == 1
+    assert record.status == "complete"
+    assert simulate(replace(scenario, params={"block_limit": 0})).status == "stalled"
 
 
 def test_utility_trades_gain_against_distance() -> None:

@@ -22,15 +22,21 @@ through the entry-point group ``mrexplore.strategies``):
   (:func:`mrexplore.planning.distance_field`, computed by
   :class:`~mrexplore.strategies.base.FrontierStrategy`).
 
-Parameters:
+Parameters (``UtilityFrontier.params``; ``--set NAME=VALUE`` on the command line):
 
-===================  ======  =======  ======  ============================================
-name                 symbol  default  unit    meaning
-===================  ======  =======  ======  ============================================
-``distance_decay``   lambda  0.2      1/cell  how fast utility decays with path length
-``line_of_sight``    -       false    -       count only unknown cells in line of sight
-ReplanRules          -                        shared: ``mrexplore.strategies.base``
-===================  ======  =======  ======  ============================================
+==================  ======  =======  ======  =======================================================
+name                symbol  default  unit    meaning
+==================  ======  =======  ======  =======================================================
+``distance_decay``  lambda  0.2      1/cell  decay of utility with path length, `gain * exp(-lambda
+                                             * L)`; 0.2 is Gonzalez-Banos & Latombe's choice, here
+                                             per cell of path
+``line_of_sight``   -       false    -       count only unknown cells in line of sight (in the
+                                             belief) in the gain
+``block_limit``     -       2        -       a target the robot was blocked on this many times in a
+                                             row counts as unreachable for it (ours, see below; 0 =
+                                             never); from ``strategies.fallback``
+ReplanRules         -                        shared: ``strategies.base``
+==================  ======  =======  ======  =======================================================
 
 Messages: none of its own; maps travel through the run's map-sharing mechanism.
 
@@ -50,6 +56,13 @@ Interpretations (where the paper and this grid world differ):
 * **Several robots.** The paper explores with one robot. Each robot here applies the
   rule on its own belief without coordination (like ``nearest-frontier``): maps are
   shared, goals are not, so two robots may choose the same frontier.
+* **Blocked targets (ours).** A failed robot standing in a one-cell door is not in
+  anyone's belief, so every plan through the door is blocked, and a literal version
+  picks the same best cell again forever (seen in ``standard-v1-quick``, harsh regime).
+  As the built-in coordinated strategies do, a target the robot was blocked on
+  ``block_limit`` times in a row is left out until it next arrives somewhere
+  (:class:`mrexplore.strategies.fallback.BlockedTargets`); with nothing else left it
+  tries those targets again.
 * **Numerics.** ``exp(-lambda L)`` underflows to 0 for long paths (``L > 3700``
   cells at 0.2), which would make every candidate tie; we maximise the equivalent
   ``ln A - lambda L`` instead. Ties go to the first cell in raster order.
@@ -57,17 +70,21 @@ Interpretations (where the paper and this grid world differ):
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import numpy.typing as npt
 
 from mrexplore.planning import information_gain
 from mrexplore.strategies.base import (
     Cell,
+    Decision,
     FrontierStrategy,
     Param,
     RobotView,
     reachable_frontier_cells,
 )
+from mrexplore.strategies.fallback import BlockedTargets, FallbackRules
 
 __all__ = ["UtilityFrontier", "best_candidate"]
 
@@ -117,11 +134,29 @@ class UtilityFrontier(FrontierStrategy):
     line_of_sight = Param(
         False, "", "count only unknown cells in line of sight (in the belief) in the gain"
     )
+    block_limit = FallbackRules.block_limit
+
+    def __init__(self, robot_id: int, n_robots: int, **params: Any) -> None:
+        super().__init__(robot_id, n_robots, **params)
+        self.blocked_targets = BlockedTargets(self.block_limit)
+
+    def decide(self, view: RobotView) -> Decision:
+        self.blocked_targets.observe(view)
+        decision = super().decide(view)
+        if decision.idle and self.blocked_targets.forget():
+            decision = super().decide(view)  # nothing left but given-up targets: retry them
+        self.blocked_targets.decided(view, decision)
+        return decision
 
     def choose_goal(
         self, view: RobotView, frontier: npt.NDArray[np.bool_], dist: npt.NDArray[np.float64]
     ) -> Cell | None:
         rows, cols = reachable_frontier_cells(frontier, dist)
+        if self.blocked_targets.excluded:  # targets given up on (blocked on them)
+            given_up = np.zeros(frontier.shape, dtype=bool)
+            given_up[tuple(np.array(sorted(self.blocked_targets.excluded)).T)] = True
+            keep = ~given_up[rows, cols]
+            rows, cols = rows[keep], cols[keep]
         if rows.size == 0:
             return None
         gains = information_gain(
