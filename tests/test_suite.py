@@ -289,3 +289,18 @@ def test_without_coverage_failures_nothing_changes() -> None:
     ).run()
     a, b = plain.trace_arrays(), far.trace_arrays()
     assert np.array_equal(a["positions"], b["positions"])
+
+
+def test_suite_report_through_the_cli(
+    tiny: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "store"
+    run_suite(tiny, "nearest-frontier,burgard,simmons", out, workers=2, progress=False)
+    assert main(["suite", "report", str(out)]) == 0
+    assert "leaderboard.md" in capsys.readouterr().out
+    markdown = (out / "leaderboard.md").read_text()
+    for name in ("nearest-frontier", "burgard", "simmons", "unlimited", "lossy", "Friedman"):
+        assert name in markdown
+    assert (out / "leaderboard.html").is_file() and (out / "leaderboard.png").is_file()
+    assert main(["suite", "report", str(tmp_path)]) == 2
+    assert "not a suite's results folder" in capsys.readouterr().err
