@@ -42,8 +42,10 @@ Messages: none of its own; maps travel through the run's map-sharing mechanism.
 
 Interpretations (where the paper and this grid world differ):
 
-* **lambda = 0.2 and its unit.** 0.2 is the value Gonzalez-Banos & Latombe chose in
-  their experiments. Here ``L`` is measured in cells, so the default is 0.2 per cell:
+* **lambda = 0.2 and its unit.** 0.2 is the value commonly cited for Gonzalez-Banos &
+  Latombe's experiments; the paper's text was not available to us to check it or
+  its length unit, so treat it as an example's default, not a reproduction. Here
+  ``L`` is measured in cells, so the default is 0.2 per cell:
   the utility halves every ``ln 2 / 0.2 = 3.5`` cells of path. Whether that weighs
   distance as their 0.2 did depends on how a cell compares with their length unit; on
   a 0.25 m grid it is a strong preference for nearby frontiers. Tune it with
