@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import re
-import time
 from pathlib import Path
 from typing import Any
 
@@ -37,9 +36,6 @@ from mrexplore.experiments.leaderboard import (
     win_rate,
     write_leaderboard,
 )
-
-CHROMIUM = Path("/usr/bin/chromium")
-CHROMEDRIVER = Path("/usr/bin/chromedriver")
 
 STRATEGIES = ("nearest-frontier", "burgard", "kme", "zlot-market")
 # Mean T99 per strategy: the rank order (burgard, zlot-market, kme, nearest-frontier)
@@ -381,46 +377,10 @@ def test_html_is_self_contained_and_escapes_names(runs: pa.Table, tmp_path: Path
 # ------------------------------------------------------------------- the browser
 
 
-def _browser_or_skip() -> Any:
-    if not CHROMIUM.exists() or not CHROMEDRIVER.exists():
-        pytest.skip(
-            "headless Chromium is not installed (/usr/bin/chromium and /usr/bin/chromedriver "
-            "come from Debian's chromium and chromium-driver: `make browser-deps`)"
-        )
-    try:
-        from selenium import webdriver
-        from selenium.webdriver.chrome.service import Service
-    except ImportError:
-        pytest.skip("selenium is not installed (pip install -e '.[dev]')")
-    options = webdriver.ChromeOptions()
-    options.binary_location = str(CHROMIUM)
-    for argument in (
-        "--headless=new",
-        "--no-sandbox",
-        "--disable-dev-shm-usage",
-        "--disable-gpu",
-        "--window-size=1280,1000",
-    ):
-        options.add_argument(argument)
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    try:
-        return webdriver.Chrome(options=options, service=Service(str(CHROMEDRIVER)))
-    except Exception as error:  # any start-up failure means "no usable browser"
-        pytest.skip(f"headless Chromium would not start: {error}")
-
-
-def _wait(driver: Any, script: str, timeout: float = 10.0) -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = driver.execute_script(script)
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f"timed out waiting for: {script}")
-
-
 def test_tables_sort_by_a_click_in_headless_chromium(written: LeaderboardFiles) -> None:
     from selenium.webdriver.common.by import By
+
+    from test_replay import _browser_or_skip, _wait
 
     table_id = "leaderboard-2-unlimited"
     column = "return Array.from(document.querySelectorAll('#{0} tbody tr')).map(r => r.cells[{1}].getAttribute('data-value'))"  # noqa: E501 (one JavaScript expression)

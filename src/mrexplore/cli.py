@@ -851,11 +851,8 @@ def cmd_suite_report(args: argparse.Namespace) -> int:
     from mrexplore.experiments.suite import check_one_suite
 
     suite = check_one_suite([args.dir])
-    runs = (
-        Store(args.dir).query("SELECT * FROM runs ORDER BY run_id")
-        if Store(args.dir).exists()
-        else None
-    )
+    store = Store(args.dir)
+    runs = store.query("SELECT * FROM runs ORDER BY run_id") if store.exists() else None
     if runs is None or runs.num_rows == 0:
         raise ScenarioError(f"{args.dir}: the suite's results folder holds no runs yet")
     out = Path(args.out) if args.out else Path(args.dir)

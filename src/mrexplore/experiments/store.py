@@ -63,7 +63,7 @@ class Store:
 
     def write_batch(self, table: pa.Table, kind: str) -> Path:
         """Write many rows of table ``kind`` (``runs`` or ``curves``) as one batch file,
-        durably; rows go before their ``runs`` rows as in :meth:`append`."""
+        durably. Write a batch's ``curves`` before its ``runs``, as :meth:`append` does."""
         if kind not in TABLES:
             raise ValueError(f"{kind}: not a table of the store ({', '.join(TABLES)})")
         return self._write(table, kind, f"batch-{uuid.uuid4().hex}")

@@ -418,6 +418,7 @@ def merge_folders(sources: Sequence[str | Path], out: str | Path) -> MergeSummar
     ``out``. A run stored in several folders (the same scenario, so the same run id)
     is kept once, from the first folder that holds it."""
     import pyarrow as pa
+    import pyarrow.compute as pc
 
     from mrexplore.experiments.store import Store
 
@@ -444,16 +445,14 @@ def merge_folders(sources: Sequence[str | Path], out: str | Path) -> MergeSummar
         seen |= new_ids
         tables["runs"].append(runs.take(keep))
         if curves is not None and curves.num_rows:
-            import pyarrow.compute as pc
-
             mask = pc.is_in(curves.column("run_id"), value_set=pa.array(sorted(new_ids)))
             tables["curves"].append(curves.filter(mask))
     root.mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(_suite_file(sources[0]), root / SUITE_FILE)
+    shutil.copyfile(Path(sources[0]) / SUITE_FILE, root / SUITE_FILE)
     store = Store(root)
     store.create()
-    for kind, parts in tables.items():
-        parts = [p for p in parts if p.num_rows]
+    for kind in ("curves", "runs"):  # curves first: no row without its curves
+        parts = [p for p in tables[kind] if p.num_rows]
         if parts:
             joined = pa.concat_tables(parts, promote_options="permissive")
             store.write_batch(joined, kind)
@@ -461,7 +460,3 @@ def merge_folders(sources: Sequence[str | Path], out: str | Path) -> MergeSummar
         sorted({s for part in tables["runs"] for s in part.column("strategy").to_pylist()})
     )
     return MergeSummary(len(seen), duplicates, strategies)
-
-
-def _suite_file(root: str | Path) -> Path:
-    return Path(root) / SUITE_FILE

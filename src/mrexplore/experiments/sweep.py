@@ -139,6 +139,7 @@ class Sweep:
             items = settings["fail"] if isinstance(settings["fail"], list) else [settings["fail"]]
             midrun = [str(item) for item in items if is_coverage_failure(str(item))]
             if midrun:
+                settings["fail"] = [item for item in items if str(item) not in midrun]
                 settings["fail_at_coverage"] = [*settings.get("fail_at_coverage", []), *midrun]
         try:
             converted = {key: _convert(key, value) for key, value in settings.items()}
@@ -202,7 +203,7 @@ def _convert(key: str, value: Any) -> Any:
         return (int(value[0]), int(value[1]))
     if key == "fail":
         items = value if isinstance(value, list) else [value]
-        return [parse_failure(str(item)) for item in items if not is_coverage_failure(str(item))]
+        return [parse_failure(str(item)) for item in items]
     if key == "fail_at_coverage":
         items = value if isinstance(value, list) else [value]
         return [parse_coverage_failure(str(item)) for item in items]
